@@ -1,0 +1,152 @@
+// Q16.16 fixed-point number: the one value type of lockstep's bit-exact engine.
+//
+// Rules (fixed/README.md states them for porters; every rule below is tested
+// against exact arithmetic in tests/fixed/):
+//   value      x = R / 2^16, R an int32 (source eq 20).
+//   rounding   every operation that drops bits rounds toward minus infinity
+//              (floor, an arithmetic right shift), source eq 21/23/24. Floor is
+//              chosen over truncation because it is translation invariant
+//              (floor(x + k) = floor(x) + k for integer k, so a body's motion does
+//              not depend on which side of 0 it is) and because it is one shift
+//              in every language.
+//   conversion from double rounds to nearest, ties to even (eq 22), the IEEE
+//              default and Python's round(); the product x * 2^16 is exact.
+//   overflow   never wraps and is never undefined: the exact result is clamped
+//              to [INT32_MIN, INT32_MAX] and a sticky flag is raised in
+//              q16_status(); the engine reads it and reports body, frame and
+//              quantity.
+#pragma once
+#include <compare>
+#include <cstdint>
+#include <limits>
+
+namespace lockstep {
+
+// Sticky status flags raised by Q16 operations (bitwise OR).
+enum Q16Flag : std::uint32_t {
+  kQ16Ok = 0,
+  kQ16Overflow = 1u << 0,      // result clamped to INT32_MIN or INT32_MAX
+  kQ16DivByZero = 1u << 1,     // x / 0: result is +max for x >= 0, min for x < 0
+  kQ16SqrtNegative = 1u << 2,  // sqrt(x < 0): result 0
+  kQ16NormalizeZero = 1u << 3, // normalise of a zero vector/quaternion
+  kQ16Invalid = 1u << 4,       // conversion from NaN: result 0
+};
+
+// The calling thread's sticky flags. Operations only ever OR into it.
+inline thread_local std::uint32_t q16_status_word = 0;
+inline std::uint32_t q16_status() { return q16_status_word; }
+inline void q16_clear_status() { q16_status_word = 0; }
+// Returns the flags raised since the last call and clears them.
+inline std::uint32_t q16_take_status() {
+  const std::uint32_t s = q16_status_word;
+  q16_status_word = 0;
+  return s;
+}
+const char* q16_flag_name(std::uint32_t flags);
+
+namespace q16detail {
+constexpr std::int64_t kMax = std::numeric_limits<std::int32_t>::max();
+constexpr std::int64_t kMin = std::numeric_limits<std::int32_t>::min();
+inline void raise(std::uint32_t f) { q16_status_word |= f; }
+// Clamp an exact int64 result into int32, raising kQ16Overflow when it clamps.
+inline std::int32_t saturate(std::int64_t v) {
+  if (v > kMax) { raise(kQ16Overflow); return static_cast<std::int32_t>(kMax); }
+  if (v < kMin) { raise(kQ16Overflow); return static_cast<std::int32_t>(kMin); }
+  return static_cast<std::int32_t>(v);
+}
+// floor(n / d) for d != 0, exact in int64 (C++ '/' truncates toward zero).
+constexpr std::int64_t floor_div(std::int64_t n, std::int64_t d) {
+  std::int64_t q = n / d;
+  if ((n % d != 0) && ((n < 0) != (d < 0))) --q;
+  return q;
+}
+// floor(sqrt(n)) for n >= 0, exact (bit-by-bit, no floating point).
+constexpr std::uint64_t isqrt(std::uint64_t n) {
+  std::uint64_t res = 0;
+  std::uint64_t bit = std::uint64_t{1} << 62;
+  while (bit > n) bit >>= 2;
+  while (bit != 0) {
+    if (n >= res + bit) { n -= res + bit; res = (res >> 1) + bit; }
+    else { res >>= 1; }
+    bit >>= 2;
+  }
+  return res;
+}
+}  // namespace q16detail
+
+class Q16 {
+ public:
+  static constexpr int kFracBits = 16;
+  static constexpr std::int32_t kOneRaw = 65536;  // 1.0
+
+  constexpr Q16() = default;
+  // The value raw / 2^16, bit for bit.
+  static constexpr Q16 from_raw(std::int32_t raw) { Q16 q; q.raw_ = raw; return q; }
+  // An integer: exact when |i| <= 32767, otherwise clamped with kQ16Overflow.
+  static Q16 from_int(std::int64_t i) {
+    if (i > 32767) return from_raw(q16detail::saturate(q16detail::kMax + 1));
+    if (i < -32768) return from_raw(q16detail::saturate(q16detail::kMin - 1));
+    return from_raw(static_cast<std::int32_t>(i * kOneRaw));
+  }
+  // eq 22: R = round(x * 2^16), to nearest, ties to even. NaN -> 0 with
+  // kQ16Invalid; out of range (or +-inf) -> clamped with kQ16Overflow.
+  static Q16 from_double(double x);
+
+  constexpr std::int32_t raw() const { return raw_; }
+  // Exact: every Q16 value is a double.
+  constexpr double to_double() const { return static_cast<double>(raw_) / 65536.0; }
+  constexpr float to_float() const { return static_cast<float>(to_double()); }
+
+  friend constexpr bool operator==(Q16 a, Q16 b) = default;
+  friend constexpr auto operator<=>(Q16 a, Q16 b) { return a.raw_ <=> b.raw_; }
+
+  // Exact sum, clamped.
+  friend Q16 operator+(Q16 a, Q16 b) {
+    return from_raw(q16detail::saturate(std::int64_t{a.raw_} + b.raw_));
+  }
+  friend Q16 operator-(Q16 a, Q16 b) {
+    return from_raw(q16detail::saturate(std::int64_t{a.raw_} - b.raw_));
+  }
+  // -INT32_MIN clamps to INT32_MAX (kQ16Overflow).
+  friend Q16 operator-(Q16 a) { return from_raw(q16detail::saturate(-std::int64_t{a.raw_})); }
+  // eq 21: floor(Ra * Rb / 2^16): exact int64 product, arithmetic shift, clamp.
+  friend Q16 operator*(Q16 a, Q16 b) {
+    return from_raw(q16detail::saturate((std::int64_t{a.raw_} * b.raw_) >> 16));
+  }
+  // floor(Ra * 2^16 / Rb), exact in int64, clamped. Division by zero: kQ16DivByZero,
+  // result INT32_MAX for a >= 0 and INT32_MIN for a < 0.
+  friend Q16 operator/(Q16 a, Q16 b) {
+    if (b.raw_ == 0) {
+      q16detail::raise(kQ16DivByZero);
+      return from_raw(a.raw_ >= 0 ? static_cast<std::int32_t>(q16detail::kMax)
+                                  : static_cast<std::int32_t>(q16detail::kMin));
+    }
+    return from_raw(q16detail::saturate(
+        q16detail::floor_div(std::int64_t{a.raw_} * kOneRaw, b.raw_)));
+  }
+  Q16& operator+=(Q16 b) { return *this = *this + b; }
+  Q16& operator-=(Q16 b) { return *this = *this - b; }
+  Q16& operator*=(Q16 b) { return *this = *this * b; }
+  Q16& operator/=(Q16 b) { return *this = *this / b; }
+
+ private:
+  std::int32_t raw_ = 0;
+};
+
+// |a|; abs(INT32_MIN raw) clamps to INT32_MAX with kQ16Overflow.
+inline Q16 abs(Q16 a) { return a.raw() < 0 ? -a : a; }
+constexpr Q16 min(Q16 a, Q16 b) { return b < a ? b : a; }
+constexpr Q16 max(Q16 a, Q16 b) { return a < b ? b : a; }
+// floor(sqrt(R * 2^16)): the exact square root, floored. sqrt(x < 0) = 0 with
+// kQ16SqrtNegative. Never overflows (sqrt(2^47) < 2^24).
+inline Q16 sqrt(Q16 a) {
+  if (a.raw() < 0) { q16detail::raise(kQ16SqrtNegative); return Q16{}; }
+  return Q16::from_raw(static_cast<std::int32_t>(
+      q16detail::isqrt(static_cast<std::uint64_t>(a.raw()) << 16)));
+}
+// 1 / a, same rule as division.
+inline Q16 reciprocal(Q16 a) { return Q16::from_raw(Q16::kOneRaw) / a; }
+// floor(a): the largest integer <= a, as an int (exact, never overflows).
+constexpr std::int32_t floor_to_int(Q16 a) { return a.raw() >> 16; }
+
+}  // namespace lockstep

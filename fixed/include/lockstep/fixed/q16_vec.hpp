@@ -1,0 +1,174 @@
+// Vector, quaternion and matrix operations on Q16.16 that accumulate exact
+// products and round once (the source's "fixed ordering and integer
+// accumulators"). Each output component is floor(sum of exact raw products /
+// 2^16), clamped to int32 with kQ16Overflow; the error of each is stated
+// beside it in ulps (1 ulp = 2^-16) and tested against exact arithmetic in
+// tests/fixed/q16_vec_test.cpp.
+#pragma once
+#include <cstdint>
+
+#include "lockstep/fixed/q16.hpp"
+#include "lockstep/fixed/q16_num.hpp"
+#include "lockstep/math/vec.hpp"
+
+namespace lockstep {
+
+// Exact sum of int64 products, floored by 2^16 once at the end. Each product p
+// is split as p = (p >> 16) * 2^16 + (p & 0xFFFF) (two's complement, exact), so
+// neither partial sum can overflow for up to 2^15 terms.
+class Q16Accumulator {
+ public:
+  void add_product(std::int32_t a, std::int32_t b) { add(std::int64_t{a} * b); }
+  void sub_product(std::int32_t a, std::int32_t b) { add(-(std::int64_t{a} * b)); }
+  // Adds a raw value r (scale 2^16) exactly: r * 2^16 in product scale.
+  void add_raw(std::int32_t r) { high_ += r; }
+  // floor(sum / 2^16) as an exact int64.
+  std::int64_t floor_result() const { return high_ + (low_ >> 16); }
+  Q16 result() const { return Q16::from_raw(q16detail::saturate(floor_result())); }
+
+ private:
+  void add(std::int64_t p) {  // -(a*b) cannot overflow: |a*b| <= 2^62
+    high_ += p >> 16;
+    low_ += p & 0xFFFF;
+  }
+  std::int64_t high_ = 0;
+  std::int64_t low_ = 0;
+};
+
+// a.b: exact sum, one floor. Error in [0, 1) ulp below the exact value.
+inline Q16 dot(const Vec3<Q16>& a, const Vec3<Q16>& b) {
+  Q16Accumulator acc;
+  acc.add_product(a.x.raw(), b.x.raw());
+  acc.add_product(a.y.raw(), b.y.raw());
+  acc.add_product(a.z.raw(), b.z.raw());
+  return acc.result();
+}
+// eq 51: a x b, each component an exact difference of products, one floor.
+inline Vec3<Q16> cross(const Vec3<Q16>& a, const Vec3<Q16>& b) {
+  auto comp = [](Q16 p, Q16 q, Q16 r, Q16 s) {
+    Q16Accumulator acc;
+    acc.add_product(p.raw(), q.raw());
+    acc.sub_product(r.raw(), s.raw());
+    return acc.result();
+  };
+  return {comp(a.y, b.z, a.z, b.y), comp(a.z, b.x, a.x, b.z), comp(a.x, b.y, a.y, b.x)};
+}
+// Sum of squared raw components, exact in uint64 (3 * 2^62 < 2^64).
+inline std::uint64_t raw_length_sq(const Vec3<Q16>& a) {
+  auto sq = [](Q16 v) {
+    const std::int64_t r = v.raw();
+    return static_cast<std::uint64_t>(r * r);
+  };
+  return sq(a.x) + sq(a.y) + sq(a.z);
+}
+// |a|^2 = floor(sum R_i^2 / 2^16), clamped.
+inline Q16 length_sq(const Vec3<Q16>& a) {
+  const std::uint64_t s = raw_length_sq(a) >> 16;
+  return Q16::from_raw(q16detail::saturate(s > 0x7FFFFFFFull ? q16detail::kMax + 1
+                                                             : static_cast<std::int64_t>(s)));
+}
+// |a| = floor(sqrt(sum R_i^2)) exactly (one rounding), clamped.
+inline Q16 length(const Vec3<Q16>& a) {
+  const std::uint64_t r = q16detail::isqrt(raw_length_sq(a));
+  return Q16::from_raw(q16detail::saturate(static_cast<std::int64_t>(r)));
+}
+// a / |a| with L = floor(sqrt(sum R_i^2)) and n_i = floor(R_i * 2^16 / L): two
+// floors; each component within 2 ulp of the exact unit vector for |a| >= 1.
+// A zero vector raises kQ16NormalizeZero and returns zero.
+inline Vec3<Q16> normalize(const Vec3<Q16>& a) {
+  const std::uint64_t len = q16detail::isqrt(raw_length_sq(a));
+  if (len == 0) {
+    q16detail::raise(kQ16NormalizeZero);
+    return {};
+  }
+  const auto l = static_cast<std::int64_t>(len);
+  auto div = [l](Q16 v) {
+    return Q16::from_raw(q16detail::saturate(q16detail::floor_div(std::int64_t{v.raw()} * 65536, l)));
+  };
+  return {div(a.x), div(a.y), div(a.z)};
+}
+
+// Hamilton product: each component an exact sum of 4 products, one floor.
+inline Quat<Q16> operator*(const Quat<Q16>& a, const Quat<Q16>& b) {
+  Q16Accumulator w, x, y, z;
+  w.add_product(a.w.raw(), b.w.raw()); w.sub_product(a.x.raw(), b.x.raw());
+  w.sub_product(a.y.raw(), b.y.raw()); w.sub_product(a.z.raw(), b.z.raw());
+  x.add_product(a.w.raw(), b.x.raw()); x.add_product(a.x.raw(), b.w.raw());
+  x.add_product(a.y.raw(), b.z.raw()); x.sub_product(a.z.raw(), b.y.raw());
+  y.add_product(a.w.raw(), b.y.raw()); y.sub_product(a.x.raw(), b.z.raw());
+  y.add_product(a.y.raw(), b.w.raw()); y.add_product(a.z.raw(), b.x.raw());
+  z.add_product(a.w.raw(), b.z.raw()); z.add_product(a.x.raw(), b.y.raw());
+  z.sub_product(a.y.raw(), b.x.raw()); z.add_product(a.z.raw(), b.w.raw());
+  return {w.result(), x.result(), y.result(), z.result()};
+}
+inline Q16 quat_length_sq(const Quat<Q16>& q) {
+  Q16Accumulator acc;
+  acc.add_product(q.w.raw(), q.w.raw());
+  acc.add_product(q.x.raw(), q.x.raw());
+  acc.add_product(q.y.raw(), q.y.raw());
+  acc.add_product(q.z.raw(), q.z.raw());
+  return acc.result();
+}
+// eq 10: q / |q|, as for vectors: L = floor(sqrt(sum R_i^2)), c_i = floor(R_i *
+// 2^16 / L). Components equal to INT32_MIN are first raised to -INT32_MAX (so
+// the sum of squares fits uint64; normalisation is scale-free, and no other
+// input is changed). The zero quaternion raises kQ16NormalizeZero and returns
+// the identity.
+inline Quat<Q16> normalize(const Quat<Q16>& q) {
+  auto lift = [](Q16 v) { return v.raw() == INT32_MIN ? -std::int64_t{INT32_MAX} : std::int64_t{v.raw()}; };
+  const std::int64_t c[4] = {lift(q.w), lift(q.x), lift(q.y), lift(q.z)};
+  std::uint64_t s = 0;
+  for (std::int64_t v : c) s += static_cast<std::uint64_t>(v * v);
+  const std::uint64_t len = q16detail::isqrt(s);
+  if (len == 0) {
+    q16detail::raise(kQ16NormalizeZero);
+    return {Q16::from_raw(Q16::kOneRaw), Q16{}, Q16{}, Q16{}};
+  }
+  const auto l = static_cast<std::int64_t>(len);
+  auto div = [l](std::int64_t v) {
+    return Q16::from_raw(q16detail::saturate(q16detail::floor_div(v * 65536, l)));
+  };
+  return {div(c[0]), div(c[1]), div(c[2]), div(c[3])};
+}
+
+// Rotation matrix of q: every entry is an exact polynomial in the raw
+// components (e.g. 1 - 2(y^2 + z^2) = (2^32 - 2 Ry^2 - 2 Rz^2) / 2^32), floored
+// once. For a unit q each entry is within 1 ulp of the exact value.
+inline Mat3<Q16> rotation_matrix(const Quat<Q16>& q) {
+  const std::int32_t w = q.w.raw(), x = q.x.raw(), y = q.y.raw(), z = q.z.raw();
+  auto diag = [](std::int32_t a, std::int32_t b) {  // 1 - 2(a^2 + b^2)
+    Q16Accumulator acc;
+    acc.add_raw(Q16::kOneRaw);
+    acc.sub_product(a, a); acc.sub_product(a, a);
+    acc.sub_product(b, b); acc.sub_product(b, b);
+    return acc.result();
+  };
+  auto off = [](std::int32_t a, std::int32_t b, std::int32_t c, std::int32_t d, bool plus) {  // 2(ab +- cd)
+    Q16Accumulator acc;
+    acc.add_product(a, b); acc.add_product(a, b);
+    if (plus) { acc.add_product(c, d); acc.add_product(c, d); }
+    else { acc.sub_product(c, d); acc.sub_product(c, d); }
+    return acc.result();
+  };
+  return {{{diag(y, z), off(x, y, w, z, false), off(x, z, w, y, true)},
+           {off(x, y, w, z, true), diag(x, z), off(y, z, w, x, false)},
+           {off(x, z, w, y, false), off(y, z, w, x, true), diag(x, y)}}};
+}
+inline Vec3<Q16> operator*(const Mat3<Q16>& m, const Vec3<Q16>& v) {
+  return {dot(m.row[0], v), dot(m.row[1], v), dot(m.row[2], v)};
+}
+// m^T v: column sums, exact, one floor each.
+inline Vec3<Q16> mat_transpose_mul(const Mat3<Q16>& m, const Vec3<Q16>& v) {
+  Vec3<Q16> out;
+  for (int i = 0; i < 3; ++i) {
+    Q16Accumulator acc;
+    for (int j = 0; j < 3; ++j) acc.add_product(m.row[j][i].raw(), v[j].raw());
+    out[i] = acc.result();
+  }
+  return out;
+}
+// q v q*, through the matrix: two floors per component; within 3 ulp of the
+// exact rotation for a unit q and |v| <= 1 (the test states the measured bound).
+inline Vec3<Q16> rotate(const Quat<Q16>& q, const Vec3<Q16>& v) { return rotation_matrix(q) * v; }
+
+}  // namespace lockstep
