@@ -11,6 +11,7 @@ struct Num<Q16> {
   static constexpr const char* kName = "fixed";
   static Q16 from_double(double x) { return Q16::from_double(x); }
   static constexpr Q16 from_raw_q16(std::int32_t raw) { return Q16::from_raw(raw); }
+  static Q16 from_int(int i) { return Q16::from_int(i); }
   static double to_double(Q16 x) { return x.to_double(); }
   static Q16 sqrt(Q16 x) { return lockstep::sqrt(x); }
   static Q16 abs(Q16 x) { return lockstep::abs(x); }

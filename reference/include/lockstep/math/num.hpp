@@ -18,6 +18,7 @@ struct NumFloat {
   // Decimal constants (Appendix A) and scene values enter through double.
   static LS_HD F from_double(double x) { return static_cast<F>(x); }
   static LS_HD F from_raw_q16(std::int32_t raw) { return static_cast<F>(static_cast<double>(raw) / 65536.0); }
+  static LS_HD F from_int(int i) { return static_cast<F>(i); }
   static LS_HD double to_double(F x) { return static_cast<double>(x); }
   static LS_HD F sqrt(F x) { return std::sqrt(x); }
   static LS_HD F abs(F x) { return std::fabs(x); }

@@ -1,0 +1,85 @@
+// Part 3 of docs/SPEC.md: impulses, friction and position correction, in the
+// two-body forms (86)-(89) that the source gives for one body only.
+#pragma once
+#include "lockstep/math/vec.hpp"
+#include "lockstep/physics/integrate.hpp"
+
+namespace lockstep {
+
+// What a contact needs of one body. Ground, SDF volumes, static and
+// sleeping-as-static bodies have inv_mass = 0 and inv_inertia = 0.
+template <class T>
+struct BodyView {
+  Vec3<T> v, w;
+  T inv_mass{};
+  Mat3<T> R;
+  Vec3<T> inv_inertia;  // body-frame diagonal, eq 18
+};
+
+// eq 48: v_rel = v1 + w1 x r1 - v2 - w2 x r2.
+template <class T>
+LS_HD Vec3<T> relative_velocity(const BodyView<T>& a, const Vec3<T>& r1, const BodyView<T>& b, const Vec3<T>& r2) {
+  return a.v + cross(a.w, r1) - b.v - cross(b.w, r2);
+}
+
+// eq 86 (two-body eq 52): k = m1^-1 + m2^-1 + (I1^-1 (r1 x d)).(r1 x d) + (I2^-1 (r2 x d)).(r2 x d);
+// an inverse effective mass along direction d (n for eq 53, t for eq 88).
+template <class T>
+LS_HD T inverse_effective_mass(const BodyView<T>& a, const Vec3<T>& r1, const BodyView<T>& b, const Vec3<T>& r2,
+                               const Vec3<T>& d) {
+  const Vec3<T> rd1 = cross(r1, d), rd2 = cross(r2, d);  // eq 51
+  return a.inv_mass + b.inv_mass + dot(apply_inverse_inertia(a.R, a.inv_inertia, rd1), rd1) +
+         dot(apply_inverse_inertia(b.R, b.inv_inertia, rd2), rd2);
+}
+
+// eq 50: e = min(e1, e2).
+template <class T>
+LS_HD T combined_restitution(const T& e1, const T& e2) { return Num<T>::min(e1, e2); }
+
+// eq 76 (4.5): below the approach speed restitution_min_speed, a contact does not bounce.
+template <class T>
+LS_HD T low_speed_restitution(const T& e, const T& v_n, const T& restitution_min_speed) {
+  return -v_n > restitution_min_speed ? e : T{};
+}
+
+// eq 53: j = -(1 + e) v_n / k, for an approaching contact (v_n < 0: the fix of 3.1).
+template <class T>
+LS_HD T normal_impulse(const T& e, const T& v_n, const T& k, const T& one) { return -(one + e) * v_n / k; }
+
+// eq 87 (two-body eqs 54-55 and 61-62): impulse J on body a at r1, -J on b at r2.
+template <class T>
+LS_HD void apply_impulse(BodyView<T>& a, const Vec3<T>& r1, BodyView<T>& b, const Vec3<T>& r2, const Vec3<T>& J) {
+  a.v += J * a.inv_mass;
+  a.w += apply_inverse_inertia(a.R, a.inv_inertia, cross(r1, J));
+  b.v -= J * b.inv_mass;
+  b.w -= apply_inverse_inertia(b.R, b.inv_inertia, cross(r2, J));
+}
+
+// eq 56: v_tan = v_rel - (v_rel.n) n.
+template <class T>
+LS_HD Vec3<T> tangential_velocity(const Vec3<T>& v_rel, const Vec3<T>& n) { return v_rel - n * dot(v_rel, n); }
+
+// eq 58: mu = sqrt(mu1 mu2).
+template <class T>
+LS_HD T combined_friction(const T& mu1, const T& mu2) { return Num<T>::sqrt(mu1 * mu2); }
+
+// eq 88 (the fix of eq 59): j_t = min(|v_tan| / k_t, mu j), k_t from eq 86 along t.
+template <class T>
+LS_HD T friction_impulse(const T& v_tan_mag, const T& k_t, const T& mu, const T& j) {
+  return Num<T>::min(v_tan_mag / k_t, mu * j);
+}
+
+// eq 89 (two-body eq 63): c = max(0, pen - slop) * percent; body a moves by
+// +n c m1^-1 / (m1^-1 + m2^-1) and body b by -n c m2^-1 / (m1^-1 + m2^-1).
+// The caller skips contacts whose total inverse mass is 0.
+template <class T>
+LS_HD void baumgarte_correction(Vec3<T>& pa, Vec3<T>& pb, const Vec3<T>& n, const T& penetration,
+                                const T& inv_mass_a, const T& inv_mass_b, const T& slop, const T& percent) {
+  const T c = Num<T>::max(T{}, penetration - slop) * percent;
+  if (!(c > T{})) return;
+  const T total = inv_mass_a + inv_mass_b;
+  pa += n * (c * (inv_mass_a / total));
+  pb -= n * (c * (inv_mass_b / total));
+}
+
+}  // namespace lockstep

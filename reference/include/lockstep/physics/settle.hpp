@@ -1,0 +1,74 @@
+// Part 4 of docs/SPEC.md: settling (righting torque, damping regimes, resting
+// contact cancellation, linear settling damping).
+#pragma once
+#include "lockstep/math/vec.hpp"
+#include "lockstep/physics/params.hpp"
+
+namespace lockstep {
+
+template <class T>
+struct Alignment {
+  Vec3<T> best_axis;  // unit body axis in world, pointing up (best_axis.y >= 0)
+  T alignment{};      // eq 66 with the fix of eq 65: |a_best . up|
+};
+
+// eqs 64-66, with eq 65 fixed: the best axis maximises |a_i . up| (ties: the
+// lowest i) and is flipped to point up, so a cube lying flat upside down is
+// aligned (the source's signed argmax scores it 0). a_i = R e_i is column i of
+// R, and a_i . up is R[1][i].
+template <class T>
+LS_HD Alignment<T> alignment_of(const Mat3<T>& R) {
+  int best = 0;
+  for (int i = 1; i < 3; ++i)
+    if (Num<T>::abs(R.row[1][i]) > Num<T>::abs(R.row[1][best])) best = i;
+  Alignment<T> a;
+  const Vec3<T> axis{R.row[0][best], R.row[1][best], R.row[2][best]};  // eq 64
+  a.best_axis = R.row[1][best] < T{} ? -axis : axis;
+  a.alignment = Num<T>::abs(R.row[1][best]);
+  return a;
+}
+
+// eqs 67-71: misalign = 1 - alignment; r = normalize(best_axis x up);
+// w_desired = kp * speed_factor * misalign, speed_factor = max(sf_min, sf_max - |v|);
+// w' = w + kd * (w_desired - w.r) * dt * r. Skipped when |best_axis x up| is
+// below 2^-12 (r undefined: the body is already aligned).
+template <class T>
+LS_HD Vec3<T> righting(const Vec3<T>& w, const Alignment<T>& a, const T& speed, const Params<T>& P) {
+  const Vec3<T> axis{-a.best_axis.z, T{}, a.best_axis.x};  // best_axis x (0, 1, 0)
+  if (length(axis) < P.righting_min_axis) return w;
+  const Vec3<T> r = normalize(axis);                                          // eq 68
+  const T misalign = Num<T>::from_int(1) - a.alignment;                       // eq 67
+  const T speed_factor = Num<T>::max(P.speed_factor_min, P.speed_factor_max - speed);
+  const T w_desired = P.kp * speed_factor * misalign;                         // eq 69
+  const T w_error = w_desired - dot(w, r);                                    // eq 70
+  return w + r * (w_error * P.kd_dt);                                         // eq 71
+}
+
+// eqs 72-74: the angular damping regime for an alignment; 1 when none applies.
+template <class T>
+LS_HD Vec3<T> regime_damping(const Vec3<T>& w, const T& alignment, const Params<T>& P) {
+  if (alignment > P.align_fine) return w * P.damp_fine;  // eq 72
+  if (alignment > P.align_good) return w * P.damp_good;  // eq 73
+  if (alignment > P.align_fair) return w * P.damp_fair;  // eq 74
+  return w;
+}
+
+// eq 75 (4.4): on a support contact with normal n (pointing from the support
+// to the body), a slow relative normal velocity (|(v - v_s).n| < rest_speed,
+// v_s the supporting body's velocity, 0 for the ground) is removed:
+// v' = v - ((v - v_s).n) n. Bodies are visited in ascending height (then
+// index), so a stack comes to rest from the bottom up in one pass.
+template <class T>
+LS_HD Vec3<T> cancel_resting_velocity(const Vec3<T>& v, const Vec3<T>& v_support, const Vec3<T>& n,
+                                      const T& rest_speed) {
+  const T vn = dot(v - v_support, n);
+  return Num<T>::abs(vn) < rest_speed ? v - n * vn : v;
+}
+
+// eq 77 (4.6): a supported body slower than settle_speed loses a fraction of its velocity.
+template <class T>
+LS_HD Vec3<T> settle_linear(const Vec3<T>& v, const T& speed, const Params<T>& P) {
+  return speed < P.settle_speed ? v * P.settle_factor : v;
+}
+
+}  // namespace lockstep

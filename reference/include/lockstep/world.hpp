@@ -1,0 +1,153 @@
+// World<T>: the Level 1 engine, one frame at a time, generic over the number
+// type T (float, double, Mp, Q16). The order of operations is docs/SPEC.md 7.2;
+// each stage lives in its own file under reference/src/.
+#pragma once
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "lockstep/math/vec.hpp"
+#include "lockstep/physics/params.hpp"
+#include "lockstep/physics/sdf.hpp"
+#include "lockstep/scene.hpp"
+
+namespace lockstep {
+
+// A run that cannot go on: a Q16.16 overflow or other numeric fault (fixed),
+// or a non-finite value (float engines). Names body, frame and quantity.
+struct RunError : std::runtime_error {
+  RunError(int frame_, int body_, std::string quantity_, const std::string& what);
+  int frame;         // the frame being computed (1 = the first step)
+  int body;          // body index, or -1 when not tied to one body
+  std::string quantity;
+};
+
+template <class T>
+struct Body {
+  Vec3<T> p, v, w;              // position (m), velocity (m/s), angular velocity (rad/s, world)
+  Quat<T> q{Num<T>::from_int(1), T{}, T{}, T{}};  // orientation (unit)
+  Vec3<T> half;                 // half extents (m)
+  T inv_mass{};                 // 1/m (1/kg); 0 for static
+  Vec3<T> inv_inertia;          // body-frame diagonal of I^-1 (eqs 14-18)
+  T restitution{}, friction{};
+  bool is_static = false;
+  bool asleep = false;
+  int sleep_counter = 0;        // eq 78
+  int sleep_frame = -1;         // frame at which it last fell asleep (-1: never)
+  // Derived each frame from q (not state):
+  Mat3<T> R;                    // rotation matrix of q
+  Vec3<T> aabb_half;            // eq 31
+  bool awake() const { return !is_static && !asleep; }
+};
+
+// Work done per stage (docs/SPEC.md "Per-stage counters"); a stage that the
+// scene does not call for leaves its counter at 0.
+struct StageCounters {
+  std::uint64_t integrate_velocity = 0;  // bodies given gravity (eqs 1, 5)
+  std::uint64_t damping = 0;             // bodies damped (eqs 6, 13)
+  std::uint64_t integrate_position = 0;  // bodies moved (eqs 2, 7-10)
+  std::uint64_t broadphase_bodies = 0;   // bodies inserted into the grid (82)
+  std::uint64_t pairs_tested = 0;        // pairs given eqs 38-39 (83)
+  std::uint64_t ground_contacts = 0;     // eq 84 against the plane
+  std::uint64_t sdf_contacts = 0;        // eqs 32-37, 93
+  std::uint64_t body_contacts = 0;       // eqs 38-43, 85
+  std::uint64_t solver_contacts = 0;     // contact visits in the solver
+  std::uint64_t normal_impulses = 0;     // eqs 53, 86-87
+  std::uint64_t restitution_bounces = 0; // impulses with e_eff > 0 (eq 76)
+  std::uint64_t friction_steps = 0;      // eqs 56-62, 88
+  std::uint64_t corrections = 0;         // eq 63 / 89
+  std::uint64_t settling_bodies = 0;     // eqs 64-75, 77
+  std::uint64_t sleep_updates = 0;       // eqs 78-80
+  std::uint64_t wakes = 0;               // eq 81
+};
+
+// A contact (docs/SPEC.md 7.2 step 3). Body b < 0 is the ground (-1) or SDF
+// volume k (-2 - k). n points from b towards a.
+template <class T>
+struct Contact {
+  int a = 0, b = -1;
+  Vec3<T> n, point;
+  T penetration{};
+  bool corrects = true;  // carries the body's position correction (eq 89)
+};
+
+// Result of a raycast (Appendix B).
+template <class T>
+struct RayHit {
+  bool hit = false;
+  int body = -2;   // -1: the ground
+  T distance{};
+  Vec3<T> point, normal;
+};
+
+template <class T>
+class World {
+ public:
+  // Builds the world from a scene (validated by the loader). Throws RunError
+  // (frame 0) when a body's derived quantities (inertia, ...) overflow T.
+  explicit World(const Scene& scene);
+  // Copying a world saves its whole state; assigning restores it (the SDF
+  // views are re-pointed at the copy's own samples).
+  World(const World& other);
+  World& operator=(const World& other);
+
+  // Advances one frame (docs/SPEC.md 7.2). Throws RunError on a numeric fault.
+  void step();
+  int frame() const { return frame_; }
+  const Scene& scene() const { return scene_; }
+  const Params<T>& params() const { return P_; }
+  const Effects& effects() const { return scene_.effects; }
+  const std::vector<Body<T>>& bodies() const { return bodies_; }
+  const Body<T>& body(int i) const { return bodies_[static_cast<std::size_t>(i)]; }
+  const std::vector<Contact<T>>& contacts() const { return contacts_; }
+  const StageCounters& counters() const { return counters_; }
+  int awake_count() const;
+  bool all_asleep() const;
+
+  // eq 92: FNV-1a 64 over each body's state (raw int32 for Q16; the IEEE bits
+  // of the value as a double for the other types).
+  std::uint64_t state_hash() const;
+  // Total kinetic + gravitational potential energy (J), evaluated in double.
+  double energy() const;
+
+  // 5.1: wakes body i (a user's touch); no effect on static bodies.
+  void wake(int i);
+  // Replaces body i's velocities (and wakes it): what a game's input does.
+  void set_velocity(int i, const Vec3<T>& v, const Vec3<T>& w);
+
+  // Appendix B queries; results in ascending body order.
+  RayHit<T> raycast(const Vec3<T>& origin, const Vec3<T>& dir, const T& max_distance) const;
+  std::vector<int> overlap_aabb(const Vec3<T>& lo, const Vec3<T>& hi) const;
+  std::vector<int> point_query(const Vec3<T>& p) const;
+
+ private:
+  // One file per stage under reference/src/.
+  void integrate_velocities();   // integrate.hpp
+  void broad_phase();            // broad_phase.hpp
+  void narrow_phase();           // narrow_phase.hpp
+  void wake_touched(const std::vector<Contact<T>>& pair_contacts);  // sleep.hpp
+  void solve_contacts();         // contact_solver.hpp
+  void settle();                 // settle.hpp
+  void correct_positions();      // contact_solver.hpp
+  void integrate_positions();    // integrate.hpp
+  void update_sleep();           // sleep.hpp
+  void update_derived(Body<T>& b);
+  void check_faults(int body, const char* quantity);
+  void check_finite();
+
+  Scene scene_;
+  Params<T> P_;
+  std::vector<Body<T>> bodies_;
+  std::vector<std::vector<T>> sdf_values_;
+  std::vector<SdfGrid<T>> sdfs_;
+  std::vector<std::pair<int, int>> pairs_;
+  std::vector<Contact<T>> contacts_;
+  std::vector<int> support_;          // per body: index of its first support contact, -1 if none
+  T ground_y_{}, ground_e_{}, ground_mu_{};
+  std::vector<T> sdf_e_, sdf_mu_;
+  StageCounters counters_;
+  int frame_ = 0;
+};
+
+}  // namespace lockstep

@@ -1,0 +1,98 @@
+// Stage 2 of docs/SPEC.md 7.2: the uniform grid (6.1, eqs 25-26, 82-83).
+#pragma once
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+#include "lockstep/physics/aabb.hpp"
+#include "lockstep/world.hpp"
+
+namespace lockstep {
+
+namespace broadphase {
+// A body covering more cells than this is tested against every body instead of
+// being inserted into each cell (a 50 m box in 4 m cells covers 27^3 cells).
+inline constexpr std::int64_t kMaxCellsPerBody = 512;
+struct Cell { int x, y, z; };
+// Cell coordinates packed into one sortable key (|c| < 2^20 on every axis:
+// |p| < 32768 m and cell_size >= 0.25 m).
+inline std::uint64_t cell_key(int x, int y, int z) {
+  auto u = [](int c) { return static_cast<std::uint64_t>(static_cast<std::int64_t>(c) + (1 << 20)); };
+  return (u(x) << 42) | (u(y) << 21) | u(z);
+}
+}  // namespace broadphase
+
+template <class T>
+void World<T>::broad_phase() {
+  using namespace broadphase;
+  pairs_.clear();
+  if (!scene_.effects.contacts || bodies_.size() < 2) return;
+  const std::size_t n = bodies_.size();
+  std::vector<Cell> cmin(n), cmax(n);
+  std::vector<T> min_x(n), max_x(n);
+  struct Entry { std::uint64_t key; int body; };
+  std::vector<Entry> entries;
+  std::vector<int> large;
+  entries.reserve(n * 2);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Body<T>& b = bodies_[i];
+    const Vec3<T> lo = b.p - b.aabb_half, hi = b.p + b.aabb_half;  // eqs 29-30
+    cmin[i] = {cell_coord(lo.x, P_.inv_cell_size), cell_coord(lo.y, P_.inv_cell_size), cell_coord(lo.z, P_.inv_cell_size)};
+    cmax[i] = {cell_coord(hi.x, P_.inv_cell_size), cell_coord(hi.y, P_.inv_cell_size), cell_coord(hi.z, P_.inv_cell_size)};
+    min_x[i] = lo.x;
+    max_x[i] = hi.x;
+    const std::int64_t cells = std::int64_t{cmax[i].x - cmin[i].x + 1} * (cmax[i].y - cmin[i].y + 1) * (cmax[i].z - cmin[i].z + 1);
+    ++counters_.broadphase_bodies;
+    if (cells > kMaxCellsPerBody) { large.push_back(static_cast<int>(i)); continue; }
+    for (int x = cmin[i].x; x <= cmax[i].x; ++x)
+      for (int y = cmin[i].y; y <= cmax[i].y; ++y)
+        for (int z = cmin[i].z; z <= cmax[i].z; ++z) entries.push_back({cell_key(x, y, z), static_cast<int>(i)});
+  }
+  // Fixed order: by cell, then by body index (keys are unique, so any correct sort agrees).
+  std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
+    return a.key != b.key ? a.key < b.key : a.body < b.body;
+  });
+  auto maybe_pair = [&](int i, int j) {
+    if (!bodies_[static_cast<std::size_t>(i)].awake() && !bodies_[static_cast<std::size_t>(j)].awake()) return;
+    pairs_.emplace_back(std::min(i, j), std::max(i, j));
+  };
+  std::vector<int> members;
+  for (std::size_t s = 0; s < entries.size();) {
+    std::size_t e = s;
+    while (e < entries.size() && entries[e].key == entries[s].key) ++e;
+    members.clear();
+    for (std::size_t k = s; k < e; ++k) members.push_back(entries[k].body);
+    // Sweep along x inside the cell: sorted by AABB min x, then index.
+    std::sort(members.begin(), members.end(), [&](int a, int b) {
+      return min_x[static_cast<std::size_t>(a)] != min_x[static_cast<std::size_t>(b)]
+                 ? min_x[static_cast<std::size_t>(a)] < min_x[static_cast<std::size_t>(b)] : a < b;
+    });
+    const std::uint64_t key = entries[s].key;
+    for (std::size_t a = 0; a < members.size(); ++a) {
+      const auto ia = static_cast<std::size_t>(members[a]);
+      for (std::size_t b = a + 1; b < members.size(); ++b) {
+        const auto ib = static_cast<std::size_t>(members[b]);
+        if (max_x[ia] < min_x[ib]) break;
+        // eq 83: the pair's home cell is max(cmin_i, cmin_j): report it there only.
+        const std::uint64_t home = cell_key(std::max(cmin[ia].x, cmin[ib].x), std::max(cmin[ia].y, cmin[ib].y),
+                                            std::max(cmin[ia].z, cmin[ib].z));
+        if (home == key) maybe_pair(members[a], members[b]);
+      }
+    }
+    s = e;
+  }
+  // Large bodies: against every other body; a pair of two large bodies once.
+  for (int L : large) {
+    const auto l = static_cast<std::size_t>(L);
+    for (std::size_t k = 0; k < n; ++k) {
+      if (k == l) continue;
+      const bool k_large = std::binary_search(large.begin(), large.end(), static_cast<int>(k));
+      if (k_large && k < l) continue;
+      if (max_x[l] < min_x[k] || max_x[k] < min_x[l]) continue;
+      maybe_pair(L, static_cast<int>(k));
+    }
+  }
+  std::sort(pairs_.begin(), pairs_.end());
+}
+
+}  // namespace lockstep

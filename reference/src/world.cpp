@@ -1,0 +1,200 @@
+// World<T>: construction, the frame (docs/SPEC.md 7.2), hash, energy and the
+// explicit instantiations for float, double, Mp and Q16.
+#include "lockstep/world.hpp"
+
+#include <cmath>
+#include <cstring>
+#include <type_traits>
+
+#include "broad_phase.hpp"
+#include "contact_solver.hpp"
+#include "integrate.hpp"
+#include "lockstep/fixed/q16_vec.hpp"
+#include "lockstep/math/num_mp.hpp"
+#include "narrow_phase.hpp"
+#include "queries.hpp"
+#include "settle.hpp"
+#include "sleep.hpp"
+
+namespace lockstep {
+
+RunError::RunError(int frame_, int body_, std::string quantity_, const std::string& what)
+    : std::runtime_error("frame " + std::to_string(frame_) + (body_ >= 0 ? ", body " + std::to_string(body_) : std::string()) +
+                         ", " + quantity_ + ": " + what),
+      frame(frame_), body(body_), quantity(std::move(quantity_)) {}
+
+namespace {
+template <class T>
+Vec3<T> to_vec(const Vec3d& v) { return {Num<T>::from_double(v.x), Num<T>::from_double(v.y), Num<T>::from_double(v.z)}; }
+}  // namespace
+
+template <class T>
+World<T>::World(const Scene& scene) : scene_(scene), P_(Params<T>::from(scene.constants)) {
+  Num<T>::take_faults();
+  auto n = [](double x) { return Num<T>::from_double(x); };
+  ground_y_ = n(scene.ground.height);
+  ground_e_ = n(scene.ground.material.restitution);
+  ground_mu_ = n(scene.ground.material.friction);
+  check_faults(-1, "constants and ground");
+  const T three = Num<T>::from_int(3);
+  bodies_.reserve(scene.bodies.size());
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+    const BodyDesc& d = scene.bodies[i];
+    Body<T> b;
+    b.p = to_vec<T>(d.position);
+    b.v = d.is_static ? Vec3<T>{} : to_vec<T>(d.velocity);
+    b.w = d.is_static ? Vec3<T>{} : to_vec<T>(d.angular_velocity);
+    b.q = normalize(Quat<T>{n(d.orientation.w), n(d.orientation.x), n(d.orientation.y), n(d.orientation.z)});  // eq 10
+    b.half = to_vec<T>(d.half_extents);
+    b.is_static = d.is_static;
+    b.asleep = d.asleep && !d.is_static;
+    b.inv_mass = d.is_static ? T{} : Num<T>::from_int(1) / n(d.mass);
+    b.inv_inertia = d.is_static ? Vec3<T>{} : box_inverse_inertia(b.half, b.inv_mass, three);  // eqs 14-18
+    b.restitution = n(d.material.restitution);
+    b.friction = n(d.material.friction);
+    update_derived(b);
+    bodies_.push_back(b);
+    check_faults(static_cast<int>(i), "initial state (inverse mass, inertia, orientation, AABB)");
+  }
+  for (std::size_t k = 0; k < scene.sdfs.size(); ++k) {
+    const SdfDesc& d = scene.sdfs[k];
+    std::vector<T> values;
+    values.reserve(d.values.size());
+    for (double v : d.values) values.push_back(n(v));
+    sdf_values_.push_back(std::move(values));
+    SdfGrid<T> g;
+    g.min = to_vec<T>(d.min);
+    g.max = to_vec<T>(d.max);
+    g.n[0] = d.nx; g.n[1] = d.ny; g.n[2] = d.nz;
+    for (int a = 0; a < 3; ++a) {
+      const T cells = Num<T>::from_int(g.n[a] - 1);
+      g.inv_spacing[a] = cells / (g.max[a] - g.min[a]);  // eq 32
+      g.spacing[a] = (g.max[a] - g.min[a]) / cells;
+    }
+    sdfs_.push_back(g);
+    sdf_e_.push_back(n(d.material.restitution));
+    sdf_mu_.push_back(n(d.material.friction));
+    check_faults(-1, "SDF volume");
+  }
+  for (std::size_t k = 0; k < sdfs_.size(); ++k) sdfs_[k].values = sdf_values_[k].data();
+  support_.assign(bodies_.size(), -1);
+}
+
+template <class T>
+World<T>::World(const World& other) { *this = other; }
+
+template <class T>
+World<T>& World<T>::operator=(const World& other) {
+  if (this == &other) return *this;
+  scene_ = other.scene_;
+  P_ = other.P_;
+  bodies_ = other.bodies_;
+  sdf_values_ = other.sdf_values_;
+  sdfs_ = other.sdfs_;
+  for (std::size_t k = 0; k < sdfs_.size(); ++k) sdfs_[k].values = sdf_values_[k].data();
+  pairs_ = other.pairs_;
+  contacts_ = other.contacts_;
+  support_ = other.support_;
+  ground_y_ = other.ground_y_;
+  ground_e_ = other.ground_e_;
+  ground_mu_ = other.ground_mu_;
+  sdf_e_ = other.sdf_e_;
+  sdf_mu_ = other.sdf_mu_;
+  counters_ = other.counters_;
+  frame_ = other.frame_;
+  return *this;
+}
+
+// docs/SPEC.md 7.2: the order of operations in a frame.
+template <class T>
+void World<T>::step() {
+  ++frame_;
+  Num<T>::take_faults();
+  integrate_velocities();                               // 1: eqs 1, 5, 6, 13
+  broad_phase();                                        // 2: eqs 31, 82, 83
+  narrow_phase();                                       // 3-4: eqs 32-47, 84, 85, 93; wake eq 81
+  solve_contacts();                                     // 5: eqs 48-62, 76, 86-88
+  if (scene_.effects.settling) settle();                // 6: eqs 64-75, 77
+  correct_positions();                                  // 7: eqs 63, 89
+  integrate_positions();                                // 8: eqs 2, 7-10
+  if (scene_.effects.sleep) update_sleep();             // 9: eqs 78-80
+  if constexpr (!Num<T>::kExact) check_finite();
+}
+
+template <class T>
+void World<T>::check_faults(int body, const char* quantity) {
+  if (const std::uint32_t f = Num<T>::take_faults()) throw RunError(frame_, body, quantity, q16_flag_name(f));
+}
+
+template <class T>
+void World<T>::check_finite() {
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    const Body<T>& b = bodies_[i];
+    if (!b.awake()) continue;
+    auto fin = [](const Vec3<T>& v) { return Num<T>::finite(v.x) && Num<T>::finite(v.y) && Num<T>::finite(v.z); };
+    const char* what = !fin(b.p) ? "position" : !fin(b.v) ? "velocity" : !fin(b.w) ? "angular velocity"
+                     : !(Num<T>::finite(b.q.w) && Num<T>::finite(b.q.x) && Num<T>::finite(b.q.y) && Num<T>::finite(b.q.z)) ? "orientation"
+                     : nullptr;
+    if (what != nullptr) throw RunError(frame_, static_cast<int>(i), what, "not finite (NaN or infinity)");
+  }
+}
+
+template <class T>
+int World<T>::awake_count() const {
+  int count = 0;
+  for (const Body<T>& b : bodies_) count += b.awake() ? 1 : 0;
+  return count;
+}
+
+template <class T>
+bool World<T>::all_asleep() const { return awake_count() == 0; }
+
+// eq 92: FNV-1a 64.
+template <class T>
+std::uint64_t World<T>::state_hash() const {
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  auto byte = [&h](std::uint8_t b) { h ^= b; h *= 0x100000001b3ull; };
+  auto value = [&](const T& x) {
+    if constexpr (std::is_same_v<T, Q16>) {
+      const auto u = static_cast<std::uint32_t>(x.raw());
+      for (int s = 0; s < 32; s += 8) byte(static_cast<std::uint8_t>(u >> s));
+    } else {
+      const double d = Num<T>::to_double(x);
+      std::uint64_t u;
+      std::memcpy(&u, &d, sizeof u);
+      for (int s = 0; s < 64; s += 8) byte(static_cast<std::uint8_t>(u >> s));
+    }
+  };
+  for (const Body<T>& b : bodies_) {
+    for (const T& x : {b.p.x, b.p.y, b.p.z, b.q.w, b.q.x, b.q.y, b.q.z, b.v.x, b.v.y, b.v.z, b.w.x, b.w.y, b.w.z}) value(x);
+    byte(b.asleep ? 1 : 0);
+  }
+  return h;
+}
+
+template <class T>
+double World<T>::energy() const {
+  double e = 0.0;
+  const Vec3d& g = scene_.constants.gravity;
+  for (const Body<T>& b : bodies_) {
+    if (b.is_static) continue;
+    const double m = 1.0 / Num<T>::to_double(b.inv_mass);
+    auto d = [](const T& x) { return Num<T>::to_double(x); };
+    const double vx = d(b.v.x), vy = d(b.v.y), vz = d(b.v.z);
+    e += 0.5 * m * (vx * vx + vy * vy + vz * vz);
+    e -= m * (g.x * d(b.p.x) + g.y * d(b.p.y) + g.z * d(b.p.z));
+    const Vec3<T> wb = mat_transpose_mul(b.R, b.w);  // body-frame omega
+    for (int a = 0; a < 3; ++a) {
+      const double inv_i = d(b.inv_inertia[a]);
+      if (inv_i > 0.0) e += 0.5 * d(wb[a]) * d(wb[a]) / inv_i;
+    }
+  }
+  return e;
+}
+
+template class World<float>;
+template class World<double>;
+template class World<Mp>;
+template class World<Q16>;
+
+}  // namespace lockstep
