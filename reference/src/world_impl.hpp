@@ -1,16 +1,18 @@
-// World<T>: construction, the frame (docs/SPEC.md 7.2), hash, energy and the
-// explicit instantiations for float, double, Mp and Q16.
+// World<T>: construction, the frame (docs/SPEC.md 7.2), hash and energy.
+// Instantiated once per number type in world_<type>.cpp, so a build of the
+// fixed engine alone (certification, cross compilers) needs no Boost.
+#pragma once
 #include "lockstep/world.hpp"
 
 #include <cmath>
 #include <cstring>
+#include <string>
 #include <type_traits>
 
 #include "broad_phase.hpp"
 #include "contact_solver.hpp"
 #include "integrate.hpp"
 #include "lockstep/fixed/q16_vec.hpp"
-#include "lockstep/math/num_mp.hpp"
 #include "narrow_phase.hpp"
 #include "queries.hpp"
 #include "settle.hpp"
@@ -18,15 +20,10 @@
 
 namespace lockstep {
 
-RunError::RunError(int frame_, int body_, std::string quantity_, const std::string& what)
-    : std::runtime_error("frame " + std::to_string(frame_) + (body_ >= 0 ? ", body " + std::to_string(body_) : std::string()) +
-                         ", " + quantity_ + ": " + what),
-      frame(frame_), body(body_), quantity(std::move(quantity_)) {}
-
-namespace {
+namespace world_detail {
 template <class T>
 Vec3<T> to_vec(const Vec3d& v) { return {Num<T>::from_double(v.x), Num<T>::from_double(v.y), Num<T>::from_double(v.z)}; }
-}  // namespace
+}  // namespace world_detail
 
 template <class T>
 World<T>::World(const Scene& scene) : scene_(scene), P_(Params<T>::from(scene.constants)) {
@@ -41,11 +38,11 @@ World<T>::World(const Scene& scene) : scene_(scene), P_(Params<T>::from(scene.co
   for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
     const BodyDesc& d = scene.bodies[i];
     Body<T> b;
-    b.p = to_vec<T>(d.position);
-    b.v = d.is_static ? Vec3<T>{} : to_vec<T>(d.velocity);
-    b.w = d.is_static ? Vec3<T>{} : to_vec<T>(d.angular_velocity);
+    b.p = world_detail::to_vec<T>(d.position);
+    b.v = d.is_static ? Vec3<T>{} : world_detail::to_vec<T>(d.velocity);
+    b.w = d.is_static ? Vec3<T>{} : world_detail::to_vec<T>(d.angular_velocity);
     b.q = normalize(Quat<T>{n(d.orientation.w), n(d.orientation.x), n(d.orientation.y), n(d.orientation.z)});  // eq 10
-    b.half = to_vec<T>(d.half_extents);
+    b.half = world_detail::to_vec<T>(d.half_extents);
     b.is_static = d.is_static;
     b.asleep = d.asleep && !d.is_static;
     b.inv_mass = d.is_static ? T{} : Num<T>::from_int(1) / n(d.mass);
@@ -63,8 +60,8 @@ World<T>::World(const Scene& scene) : scene_(scene), P_(Params<T>::from(scene.co
     for (double v : d.values) values.push_back(n(v));
     sdf_values_.push_back(std::move(values));
     SdfGrid<T> g;
-    g.min = to_vec<T>(d.min);
-    g.max = to_vec<T>(d.max);
+    g.min = world_detail::to_vec<T>(d.min);
+    g.max = world_detail::to_vec<T>(d.max);
     g.n[0] = d.nx; g.n[1] = d.ny; g.n[2] = d.nz;
     for (int a = 0; a < 3; ++a) {
       const T cells = Num<T>::from_int(g.n[a] - 1);
@@ -191,10 +188,5 @@ double World<T>::energy() const {
   }
   return e;
 }
-
-template class World<float>;
-template class World<double>;
-template class World<Mp>;
-template class World<Q16>;
 
 }  // namespace lockstep

@@ -1,0 +1,69 @@
+// A type-erased engine run: the harness, `lockstep run` and the benchmarks
+// drive every engine (fixed, float, double, mp, gpu) through this interface.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "lockstep/scene.hpp"
+#include "lockstep/world.hpp"
+
+namespace lockstep {
+
+// One body's state, converted to double (exact for Q16 and float).
+struct BodySnapshot {
+  double p[3];      // position (m)
+  double q[4];      // orientation w, x, y, z
+  double v[3];      // velocity (m/s)
+  double w[3];      // angular velocity (rad/s)
+  bool asleep;
+  int sleep_frame;  // -1: not asleep yet
+};
+
+class EngineRun {
+ public:
+  virtual ~EngineRun() = default;
+  virtual std::string name() const = 0;          // "fixed", "float", "double", "mp", "gpu"
+  virtual std::string description() const = 0;  // e.g. "gpu (host build: no CUDA device)"
+  virtual void step() = 0;                       // throws RunError
+  virtual int frame() const = 0;
+  virtual int body_count() const = 0;
+  virtual BodySnapshot body(int i) const = 0;
+  virtual std::uint64_t state_hash() const = 0;  // eq 92
+  virtual double energy() const = 0;             // (J)
+  virtual StageCounters counters() const = 0;
+  // Raw Q16.16 state of body i (p, q, v, w: 13 int32) for the fixed engine; empty otherwise.
+  virtual std::vector<std::int32_t> raw_state(int /*i*/) const { return {}; }
+};
+
+// Engine names in a fixed order; "gpu" is present when the GPU engine is built
+// (its host build when no CUDA device is found).
+std::vector<std::string> engine_names();
+// Throws std::invalid_argument naming the allowed engines.
+std::unique_ptr<EngineRun> make_engine(std::string_view name, const Scene& scene);
+
+// The CPU engines: a World<T> behind EngineRun.
+template <class T>
+class WorldRun final : public EngineRun {
+ public:
+  explicit WorldRun(const Scene& scene) : world_(scene) {}
+  std::string name() const override { return Num<T>::kName; }
+  std::string description() const override;
+  void step() override { world_.step(); }
+  int frame() const override { return world_.frame(); }
+  int body_count() const override { return static_cast<int>(world_.bodies().size()); }
+  BodySnapshot body(int i) const override;
+  std::uint64_t state_hash() const override { return world_.state_hash(); }
+  double energy() const override { return world_.energy(); }
+  StageCounters counters() const override { return world_.counters(); }
+  std::vector<std::int32_t> raw_state(int i) const override;
+  World<T>& world() { return world_; }
+  const World<T>& world() const { return world_; }
+
+ private:
+  World<T> world_;
+};
+
+}  // namespace lockstep

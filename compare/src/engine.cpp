@@ -1,0 +1,74 @@
+#include "lockstep/compare/engine.hpp"
+
+#include <stdexcept>
+#include <type_traits>
+
+#include "lockstep/fixed/q16_vec.hpp"
+#include "lockstep/math/num_mp.hpp"
+#if LOCKSTEP_HAVE_GPU_ENGINE
+#include "lockstep/gpu/gpu_engine.hpp"
+#endif
+
+namespace lockstep {
+
+template <class T>
+std::string WorldRun<T>::description() const {
+  if constexpr (std::is_same_v<T, Q16>) return "fixed: Q16.16, bit-exact";
+  else if constexpr (std::is_same_v<T, float>) return "float: IEEE binary32, reference engine";
+  else if constexpr (std::is_same_v<T, double>) return "double: IEEE binary64, reference engine";
+  else return "mp: Boost.Multiprecision 113-bit binary float (the truth)";
+}
+
+template <class T>
+BodySnapshot WorldRun<T>::body(int i) const {
+  const Body<T>& b = world_.body(i);
+  auto d = [](const T& x) { return Num<T>::to_double(x); };
+  return {{d(b.p.x), d(b.p.y), d(b.p.z)},
+          {d(b.q.w), d(b.q.x), d(b.q.y), d(b.q.z)},
+          {d(b.v.x), d(b.v.y), d(b.v.z)},
+          {d(b.w.x), d(b.w.y), d(b.w.z)},
+          b.asleep,
+          b.asleep ? b.sleep_frame : -1};
+}
+
+template <class T>
+std::vector<std::int32_t> WorldRun<T>::raw_state(int i) const {
+  if constexpr (std::is_same_v<T, Q16>) {
+    const Body<T>& b = world_.body(i);
+    std::vector<std::int32_t> out;
+    for (const Q16& x : {b.p.x, b.p.y, b.p.z, b.q.w, b.q.x, b.q.y, b.q.z, b.v.x, b.v.y, b.v.z, b.w.x, b.w.y, b.w.z})
+      out.push_back(x.raw());
+    return out;
+  } else {
+    (void)i;
+    return {};
+  }
+}
+
+template class WorldRun<Q16>;
+template class WorldRun<float>;
+template class WorldRun<double>;
+template class WorldRun<Mp>;
+
+std::vector<std::string> engine_names() {
+  std::vector<std::string> names{"fixed", "float", "double", "mp"};
+#if LOCKSTEP_HAVE_GPU_ENGINE
+  names.emplace_back("gpu");
+#endif
+  return names;
+}
+
+std::unique_ptr<EngineRun> make_engine(std::string_view name, const Scene& scene) {
+  if (name == "fixed") return std::make_unique<WorldRun<Q16>>(scene);
+  if (name == "float") return std::make_unique<WorldRun<float>>(scene);
+  if (name == "double") return std::make_unique<WorldRun<double>>(scene);
+  if (name == "mp") return std::make_unique<WorldRun<Mp>>(scene);
+#if LOCKSTEP_HAVE_GPU_ENGINE
+  if (name == "gpu") return make_gpu_engine(scene);
+#endif
+  std::string allowed;
+  for (const std::string& n : engine_names()) allowed += (allowed.empty() ? "" : ", ") + n;
+  throw std::invalid_argument("--engine: unknown engine '" + std::string(name) + "'; allowed: " + allowed);
+}
+
+}  // namespace lockstep

@@ -1,0 +1,7 @@
+// World<Mp>: the mp engine.
+#include "lockstep/math/num_mp.hpp"
+#include "world_impl.hpp"
+
+namespace lockstep {
+template class World<Mp>;
+}  // namespace lockstep
