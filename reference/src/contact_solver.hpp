@@ -35,36 +35,46 @@ void World<T>::solve_contacts() {
     else if (idx == -1) { e = ground_e_; mu = ground_mu_; }
     else { e = sdf_e_[static_cast<std::size_t>(-2 - idx)]; mu = sdf_mu_[static_cast<std::size_t>(-2 - idx)]; }
   };
+  // Prepare: lever arms, approach speed, restitution, effective mass.
+  for (Contact<T>& c : contacts_) {
+    const BodyView<T> A = solver::view_of(bodies_, c.a, identity);
+    const BodyView<T> B = solver::view_of(bodies_, c.b, identity);
+    c.r1 = c.point - bodies_[static_cast<std::size_t>(c.a)].p;
+    c.r2 = c.b >= 0 ? c.point - bodies_[static_cast<std::size_t>(c.b)].p : Vec3<T>{};
+    c.v_n0 = dot(relative_velocity(A, c.r1, B, c.r2), c.n);  // eqs 48-49
+    T e1, mu1, e2, mu2;
+    material(c.a, e1, mu1);
+    material(c.b, e2, mu2);
+    c.e = fx.restitution ? low_speed_restitution(combined_restitution(e1, e2), c.v_n0, P_.restitution_min_speed)
+                         : T{};  // eqs 50, 76
+    if (c.e > T{}) ++counters_.restitution_bounces;
+    c.mu = fx.friction ? combined_friction(mu1, mu2) : T{};  // eq 58
+    c.k_n = inverse_effective_mass(A, c.r1, B, c.r2, c.n);   // eq 86
+    c.j_n = T{};
+    c.j_t = Vec3<T>{};
+    check_faults(c.a, "contact preparation");
+  }
   for (int it = 0; it < P_.solver_iterations; ++it) {
-    for (const Contact<T>& c : contacts_) {
+    for (Contact<T>& c : contacts_) {
       BodyView<T> A = solver::view_of(bodies_, c.a, identity);
       BodyView<T> B = solver::view_of(bodies_, c.b, identity);
-      if (A.inv_mass == T{} && B.inv_mass == T{}) continue;
+      if (!(c.k_n > T{})) continue;  // both sides immovable
       ++counters_.solver_contacts;
-      const Vec3<T> r1 = c.point - bodies_[static_cast<std::size_t>(c.a)].p;
-      const Vec3<T> r2 = c.b >= 0 ? c.point - bodies_[static_cast<std::size_t>(c.b)].p : Vec3<T>{};
-      const T v_n = dot(relative_velocity(A, r1, B, r2), c.n);  // eqs 48-49
-      if (!(v_n < T{})) continue;  // only approaching contacts (the fix of 3.1)
-      T e1, mu1, e2, mu2;
-      material(c.a, e1, mu1);
-      material(c.b, e2, mu2);
-      T e{};
-      if (fx.restitution) {
-        e = low_speed_restitution(combined_restitution(e1, e2), v_n, P_.restitution_min_speed);  // eqs 50, 76
-        if (e > T{}) ++counters_.restitution_bounces;
+      const T v_n = dot(relative_velocity(A, c.r1, B, c.r2), c.n);  // eqs 48-49
+      // Only approaching contacts bounce (the fix of 3.1): the target -e v_n0 uses v_n0 < 0.
+      const T v_n0 = Num<T>::min(c.v_n0, T{});
+      const T dj = accumulate_normal_impulse(c.j_n, v_n, c.e, v_n0, c.k_n);  // eqs 53, 94
+      if (dj != T{}) {
+        apply_impulse(A, c.r1, B, c.r2, c.n * dj);  // eq 87
+        ++counters_.normal_impulses;
       }
-      const T k = inverse_effective_mass(A, r1, B, r2, c.n);  // eq 86
-      const T j = normal_impulse(e, v_n, k, one);              // eq 53
-      apply_impulse(A, r1, B, r2, c.n * j);                    // eq 87
-      ++counters_.normal_impulses;
-      if (fx.friction && j > T{}) {
-        const Vec3<T> v_tan = tangential_velocity(relative_velocity(A, r1, B, r2), c.n);  // eq 56
-        const T v_tan_mag = length(v_tan);                                                // eq 57
-        if (v_tan_mag > T{}) {
-          const Vec3<T> t = normalize(v_tan);                                             // eq 60
-          const T k_t = inverse_effective_mass(A, r1, B, r2, t);                          // eq 88
-          const T j_t = friction_impulse(v_tan_mag, k_t, combined_friction(mu1, mu2), j);  // eqs 58, 88
-          apply_impulse(A, r1, B, r2, t * (-j_t));                                        // eqs 61-62, 87
+      if (fx.friction && c.j_n > T{}) {
+        const Vec3<T> v_tan = tangential_velocity(relative_velocity(A, c.r1, B, c.r2), c.n);  // eq 56
+        if (length(v_tan) > T{}) {                                                            // eq 57
+          const Vec3<T> t = normalize(v_tan);                                                 // eq 60
+          const T k_t = inverse_effective_mass(A, c.r1, B, c.r2, t);                          // eq 88
+          const Vec3<T> dJ = accumulate_friction_impulse(c.j_t, v_tan, k_t, c.mu, c.j_n);     // eqs 88, 95
+          apply_impulse(A, c.r1, B, c.r2, dJ);                                                // eqs 61-62, 87
           ++counters_.friction_steps;
         }
       }

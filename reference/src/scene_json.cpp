@@ -290,8 +290,11 @@ class DomBuilder {
 
   bool parse_error(std::size_t position, const std::string& last_token,
                    const nlohmann::detail::exception& ex) {
-    // position counts the bytes read, the offending one included.
-    const auto [line, col] = line_column(text_, position > 0 ? position - 1 : 0);
+    // position counts the bytes read, the offending one included. A number
+    // that overflows is reported at its first character.
+    std::size_t offset = position > 0 ? position - 1 : 0;
+    if (ex.id == 406 && last_token.size() <= position) offset = position - last_token.size();
+    const auto [line, col] = line_column(text_, offset);
     const std::string where = prefix(source_).empty()
                                   ? "line " + std::to_string(line) + ", column " + std::to_string(col) + ": "
                                   : std::string(source_) + ":" + std::to_string(line) + ":" +
@@ -313,7 +316,7 @@ class DomBuilder {
     if (text_.find_first_not_of(" \t\r\n") == std::string_view::npos) {
       detail = "the document is empty: a scene is a JSON object {\"format\": \"lockstep-scene\", ...}";
     }
-    throw SceneError(where + "JSON syntax error" + (path.empty() ? std::string() : " in " + path) +
+    throw SceneError(where + "JSON syntax error" + (path.empty() ? std::string() : " near " + path) +
                          ": " + detail + " (fix the JSON syntax at this line and column)",
                      path);
   }
@@ -342,7 +345,7 @@ class DomBuilder {
 
   void push(json* container) {
     if (stack_.size() >= static_cast<std::size_t>(kMaxDepth)) {
-      const std::string path = current_path();
+      const std::string path = current_path(/*last_has_open_child=*/true);
       throw SceneError(prefix(source_) + (path.empty() ? std::string() : path + ": ") +
                            "nested more than " + std::to_string(kMaxDepth) +
                            " levels deep: a scene never needs that (check the brackets)",
@@ -358,9 +361,11 @@ class DomBuilder {
     return p;
   }
   // Path of the value being read (or just read).
-  std::string current_path() const {
+  std::string current_path(bool last_has_open_child = false) const {
     std::string p;
-    for (std::size_t i = 0; i < stack_.size(); ++i) p = step(p, stack_[i], i + 1 < stack_.size());
+    for (std::size_t i = 0; i < stack_.size(); ++i) {
+      p = step(p, stack_[i], last_has_open_child || i + 1 < stack_.size());
+    }
     return p;
   }
   // One step down from frame f: to its open child container (the last

@@ -44,7 +44,7 @@ World<T>::World(const Scene& scene) : scene_(scene), P_(Params<T>::from(scene.co
     b.q = normalize(Quat<T>{n(d.orientation.w), n(d.orientation.x), n(d.orientation.y), n(d.orientation.z)});  // eq 10
     b.half = world_detail::to_vec<T>(d.half_extents);
     b.is_static = d.is_static;
-    b.asleep = d.asleep && !d.is_static;
+    b.asleep = d.asleep && !d.is_static && scene.effects.sleep;  // without the sleep effect nothing sleeps
     b.inv_mass = d.is_static ? T{} : Num<T>::from_int(1) / n(d.mass);
     b.inv_inertia = d.is_static ? Vec3<T>{} : box_inverse_inertia(b.half, b.inv_mass, three);  // eqs 14-18
     b.restitution = n(d.material.restitution);

@@ -52,7 +52,7 @@ struct Effects {
   bool ground = true;        // eqs 44-46 against the ground plane
   bool contacts = true;      // body-body: broadphase 6.1 and eqs 38-43, 47
   bool friction = true;      // eqs 56-62
-  bool restitution = true;   // eqs 50, 53 with e > 0 and (77)
+  bool restitution = true;   // eqs 50, 53 with e > 0 and (76)
   bool settling = true;      // eqs 64-74 and 4.4-4.6
   bool sleep = true;         // 4.7, 5.1
   bool sdf = true;           // eqs 32-37 (needs SDF volumes)
@@ -91,7 +91,7 @@ struct Constants {
   int drowsy_frames = 10;               // 4.7, eq 79
   double drowsy_damping = 0.5;          // 4.7, eq 79
   int sleep_frames = 30;                // 4.7, eq 80
-  double wake_speed = 0.1;              // (m/s) 5.1, eq 81
+  double wake_speed = 0.25;             // (m/s) 5.1, eq 81; above g*dt = 0.1635 so a resting neighbour does not wake a sleeper
   double wake_penetration = 0.02;       // (m) 5.1, eq 81
 };
 

@@ -46,6 +46,36 @@ LS_HD T low_speed_restitution(const T& e, const T& v_n, const T& restitution_min
 template <class T>
 LS_HD T normal_impulse(const T& e, const T& v_n, const T& k, const T& one) { return -(one + e) * v_n / k; }
 
+// eq 94 (the iterated form of eq 53, Catto's accumulated impulses): with v_n0
+// the approach speed at the start of the solve, each iteration drives v_n to
+// the restitution target -e v_n0: dj = -(v_n + e v_n0) / k, and the contact's
+// accumulated impulse stays >= 0: J' = max(J + dj, 0); the impulse applied is
+// J' - J. One iteration on one contact from J = 0 is exactly eq 53.
+template <class T>
+LS_HD T accumulate_normal_impulse(T& accumulated, const T& v_n, const T& e, const T& v_n0, const T& k) {
+  const T dj = -(v_n + e * v_n0) / k;
+  const T updated = Num<T>::max(accumulated + dj, T{});
+  const T applied = updated - accumulated;
+  accumulated = updated;
+  return applied;
+}
+
+// eq 95 (the iterated form of eq 88): the friction impulse accumulated over
+// the iterations, a vector in the contact plane, is clamped to the Coulomb
+// cone |J_t| <= mu J_n; each iteration adds -v_tan / k_t and returns the
+// change to apply. One iteration on one contact is exactly eq 88.
+template <class T>
+LS_HD Vec3<T> accumulate_friction_impulse(Vec3<T>& accumulated, const Vec3<T>& v_tan, const T& k_t, const T& mu,
+                                          const T& j_n) {
+  const Vec3<T> old = accumulated;
+  Vec3<T> updated = accumulated - v_tan * (Num<T>::from_int(1) / k_t);
+  const T limit = mu * j_n;
+  const T mag = length(updated);
+  if (mag > limit) updated = updated * (limit / mag);
+  accumulated = updated;
+  return updated - old;
+}
+
 // eq 87 (two-body eqs 54-55 and 61-62): impulse J on body a at r1, -J on b at r2.
 template <class T>
 LS_HD void apply_impulse(BodyView<T>& a, const Vec3<T>& r1, BodyView<T>& b, const Vec3<T>& r2, const Vec3<T>& J) {
