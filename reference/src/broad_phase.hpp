@@ -28,6 +28,9 @@ void World<T>::broad_phase() {
   pairs_.clear();
   if (!scene_.effects.contacts || bodies_.size() < 2) return;
   const std::size_t n = bodies_.size();
+  // Boxes grown by half the contact tolerance (eq 97), as the narrowphase grows them.
+  const T half_tol = P_.contact_tolerance * Num<T>::from_double(0.5);
+  const Vec3<T> grow{half_tol, half_tol, half_tol};
   std::vector<Cell> cmin(n), cmax(n);
   std::vector<T> min_x(n), max_x(n);
   struct Entry { std::uint64_t key; int body; };
@@ -36,7 +39,7 @@ void World<T>::broad_phase() {
   entries.reserve(n * 2);
   for (std::size_t i = 0; i < n; ++i) {
     const Body<T>& b = bodies_[i];
-    const Vec3<T> lo = b.p - b.aabb_half, hi = b.p + b.aabb_half;  // eqs 29-30
+    const Vec3<T> lo = b.p - (b.aabb_half + grow), hi = b.p + (b.aabb_half + grow);  // eqs 29-30
     cmin[i] = {cell_coord(lo.x, P_.inv_cell_size), cell_coord(lo.y, P_.inv_cell_size), cell_coord(lo.z, P_.inv_cell_size)};
     cmax[i] = {cell_coord(hi.x, P_.inv_cell_size), cell_coord(hi.y, P_.inv_cell_size), cell_coord(hi.z, P_.inv_cell_size)};
     min_x[i] = lo.x;
@@ -53,7 +56,12 @@ void World<T>::broad_phase() {
     return a.key != b.key ? a.key < b.key : a.body < b.body;
   });
   auto maybe_pair = [&](int i, int j) {
-    if (!bodies_[static_cast<std::size_t>(i)].awake() && !bodies_[static_cast<std::size_t>(j)].awake()) return;
+    const Body<T>& a = bodies_[static_cast<std::size_t>(i)];
+    const Body<T>& b = bodies_[static_cast<std::size_t>(j)];
+    if (!a.awake() && !b.awake()) return;
+    for (int ax = 1; ax < 3; ++ax)  // x was checked by the sweep
+      if (a.p[ax] + (a.aabb_half[ax] + half_tol) < b.p[ax] - (b.aabb_half[ax] + half_tol) ||
+          b.p[ax] + (b.aabb_half[ax] + half_tol) < a.p[ax] - (a.aabb_half[ax] + half_tol)) return;
     pairs_.emplace_back(std::min(i, j), std::max(i, j));
   };
   std::vector<int> members;

@@ -33,8 +33,17 @@ class Lcg {
   std::uint64_t x_;
 };
 
-constexpr std::int64_t kJitterPos = 6553;   // 0.0999908... m (raw Q16.16)
-constexpr std::int64_t kJitterQuat = 13107;  // 0.1999969... (raw Q16.16)
+// Jitter amplitudes (raw Q16.16). bowl and terrain space their cubes so that
+// no jitter can make two touch (bounding spheres). pile1000's 1.25 m lattice
+// leaves only 0.25 m between faces: with +-0.1 m and +-0.2 quaternion
+// components 1106 neighbour pairs would start interpenetrating, so it uses
+// +-0.05 m and +-0.05 (rotations up to about 6 degrees per axis), for which
+// tests/reference/builtin_scenes_test.cpp checks (separating axes) that no
+// two cubes overlap.
+constexpr std::int64_t kJitterPos = 6553;        // 0.0999908... m
+constexpr std::int64_t kJitterQuat = 13107;      // 0.1999969...
+constexpr std::int64_t kPileJitterPos = 3277;    // 0.0500030... m
+constexpr std::int64_t kPileJitterQuat = 3277;   // 0.0500030...
 
 // Millimetres to metres: the double nearest the decimal value (one correctly
 // rounded division).
@@ -48,17 +57,19 @@ BodyDesc cube(double x, double y, double z) {
   return b;
 }
 
-// A cube with jittered position (+-0.1 m per axis) and orientation
-// (1, a, b, c), a, b, c in +-0.2, unnormalised (the engine normalises).
-// The draws are separate statements: the order in which function arguments
-// are evaluated is unspecified, so draws must never share an expression.
-BodyDesc jittered_cube(Lcg& rng, double x, double y, double z) {
-  const double dx = rng.q16(kJitterPos);
-  const double dy = rng.q16(kJitterPos);
-  const double dz = rng.q16(kJitterPos);
-  const double a = rng.q16(kJitterQuat);
-  const double b = rng.q16(kJitterQuat);
-  const double c = rng.q16(kJitterQuat);
+// A cube with jittered position (+-pos_raw / 2^16 m per axis) and orientation
+// (1, a, b, c), a, b, c in +-quat_raw / 2^16, unnormalised (the engine
+// normalises). The draws are separate statements: the order in which function
+// arguments are evaluated is unspecified, so draws must never share an
+// expression.
+BodyDesc jittered_cube(Lcg& rng, double x, double y, double z, std::int64_t pos_raw = kJitterPos,
+                       std::int64_t quat_raw = kJitterQuat) {
+  const double dx = rng.q16(pos_raw);
+  const double dy = rng.q16(pos_raw);
+  const double dz = rng.q16(pos_raw);
+  const double a = rng.q16(quat_raw);
+  const double b = rng.q16(quat_raw);
+  const double c = rng.q16(quat_raw);
   BodyDesc body = cube(x + dx, y + dy, z + dz);
   body.orientation = {1.0, a, b, c};
   return body;
@@ -156,7 +167,8 @@ Scene pile1000() {
     for (int k = 0; k < 10; ++k) {
       for (int i = 0; i < 10; ++i) {
         // Lattice spaced 1.25 m, centred on x = z = 0, lowest layer at y = 2.
-        s.bodies.push_back(jittered_cube(rng, (2 * i - 9) * 0.625, 2.0 + 1.25 * j, (2 * k - 9) * 0.625));
+        s.bodies.push_back(jittered_cube(rng, (2 * i - 9) * 0.625, 2.0 + 1.25 * j, (2 * k - 9) * 0.625,
+                                         kPileJitterPos, kPileJitterQuat));
       }
     }
   }

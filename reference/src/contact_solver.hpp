@@ -1,6 +1,8 @@
 // Stages 5 and 7 of docs/SPEC.md 7.2: sequential impulses (eqs 48-62, 86-88)
 // and Baumgarte position correction (eqs 63, 89).
 #pragma once
+#include <algorithm>
+
 #include "lockstep/physics/contact.hpp"
 #include "lockstep/world.hpp"
 
@@ -54,6 +56,25 @@ void World<T>::solve_contacts() {
     c.j_t = Vec3<T>{};
     check_faults(c.a, "contact preparation");
   }
+  // eq 96: warm start from last frame's impulses of the same contact
+  // (same bodies, same feature), applied in contact order.
+  if (!warm_.empty()) {
+    for (Contact<T>& c : contacts_) {
+      const auto it = std::lower_bound(warm_.begin(), warm_.end(), c, [](const CachedImpulse& w, const Contact<T>& k) {
+        return w.a != k.a ? w.a < k.a : (w.b != k.b ? w.b < k.b : w.feature < k.feature);
+      });
+      if (it == warm_.end() || it->a != c.a || it->b != c.b || it->feature != c.feature) continue;
+      if (!(c.k_n > T{})) continue;
+      BodyView<T> A = solver::view_of(bodies_, c.a, identity);
+      BodyView<T> B = solver::view_of(bodies_, c.b, identity);
+      c.j_n = it->j_n;
+      c.j_t = fx.friction ? it->j_t - c.n * dot(it->j_t, c.n) : Vec3<T>{};  // onto this frame's tangent plane
+      apply_impulse(A, c.r1, B, c.r2, c.n * c.j_n + c.j_t);
+      if (A.inv_mass > T{}) { Body<T>& b = bodies_[static_cast<std::size_t>(c.a)]; b.v = A.v; b.w = A.w; }
+      if (B.inv_mass > T{}) { Body<T>& b = bodies_[static_cast<std::size_t>(c.b)]; b.v = B.v; b.w = B.w; }
+      check_faults(c.a, "warm start impulse");
+    }
+  }
   for (int it = 0; it < P_.solver_iterations; ++it) {
     for (Contact<T>& c : contacts_) {
       BodyView<T> A = solver::view_of(bodies_, c.a, identity);
@@ -61,9 +82,9 @@ void World<T>::solve_contacts() {
       if (!(c.k_n > T{})) continue;  // both sides immovable
       ++counters_.solver_contacts;
       const T v_n = dot(relative_velocity(A, c.r1, B, c.r2), c.n);  // eqs 48-49
-      // Only approaching contacts bounce (the fix of 3.1): the target -e v_n0 uses v_n0 < 0.
-      const T v_n0 = Num<T>::min(c.v_n0, T{});
-      const T dj = accumulate_normal_impulse(c.j_n, v_n, c.e, v_n0, c.k_n);  // eqs 53, 94
+      // Only approaching contacts bounce (the fix of 3.1): the target -e v_n0 uses v_n0 <= 0.
+      const T target = contact_target_velocity(c.penetration, c.e, Num<T>::min(c.v_n0, T{}), P_.inv_dt);  // eq 97
+      const T dj = accumulate_normal_impulse(c.j_n, v_n, target, c.k_n);  // eqs 53, 94
       if (dj != T{}) {
         apply_impulse(A, c.r1, B, c.r2, c.n * dj);  // eq 87
         ++counters_.normal_impulses;
@@ -83,6 +104,12 @@ void World<T>::solve_contacts() {
       check_faults(c.a, c.b >= 0 ? "contact impulse (with another body)" : "contact impulse");
     }
   }
+  warm_.clear();
+  for (const Contact<T>& c : contacts_)
+    if (c.j_n > T{}) warm_.push_back({c.a, c.b, c.feature, c.j_n, c.j_t});
+  std::sort(warm_.begin(), warm_.end(), [](const CachedImpulse& x, const CachedImpulse& y) {
+    return x.a != y.a ? x.a < y.a : (x.b != y.b ? x.b < y.b : x.feature < y.feature);
+  });
 }
 
 template <class T>

@@ -11,46 +11,27 @@
 
 namespace lockstep {
 
-namespace narrow {
-// eq 84: the contact point is the mean of the sample points whose depth is
-// within contact_tolerance of the deepest (face centre, edge midpoint or corner).
-template <class T>
-struct DeepestPoints {
-  T deepest{};
-  bool any = false;
-  Vec3<T> sum;
-  int count = 0;
-  // Candidates are offered twice: once to find the deepest, once to average.
-  void offer_depth(const T& depth) {
-    if (!any || depth > deepest) deepest = depth;
-    any = true;
-  }
-  void offer_point(const T& depth, const Vec3<T>& point, const T& tolerance) {
-    if (depth >= deepest - tolerance) { sum += point; ++count; }
-  }
-  Vec3<T> mean() const {
-    const T c = Num<T>::from_int(count);
-    return {sum.x / c, sum.y / c, sum.z / c};
-  }
-};
-}  // namespace narrow
 
 template <class T>
 void World<T>::narrow_phase() {
   contacts_.clear();
   std::vector<Contact<T>> pair_contacts;
+  const T half_tol = P_.contact_tolerance * Num<T>::from_double(0.5);
   // Body against body, pairs in ascending (i, j) order.
   for (const auto& [i, j] : pairs_) {
     const Body<T>& A = bodies_[static_cast<std::size_t>(i)];
     const Body<T>& B = bodies_[static_cast<std::size_t>(j)];
     ++counters_.pairs_tested;
-    const Overlap<T> o = aabb_overlap(A.p, A.aabb_half, B.p, B.aabb_half);  // eqs 38-43
+    // eqs 38-43 on boxes grown by half the contact tolerance each (eq 97):
+    // pairs up to contact_tolerance apart are speculative contacts.
+    const Vec3<T> grow{half_tol, half_tol, half_tol};
+    const Overlap<T> o = aabb_overlap(A.p, A.aabb_half + grow, B.p, B.aabb_half + grow);
     if (!o.hit) continue;
     Contact<T> c;
     c.a = i;
     c.b = j;
     c.n = o.normal;
-    c.penetration = o.penetration;
+    c.penetration = o.penetration - P_.contact_tolerance;
     c.point = aabb_contact_point(A.p, A.aabb_half, B.p, B.aabb_half, Num<T>::from_double(0.5));  // eq 85
     pair_contacts.push_back(c);
     ++counters_.body_contacts;
@@ -58,13 +39,12 @@ void World<T>::narrow_phase() {
   }
   if (scene_.effects.sleep) wake_touched(pair_contacts);
 
-  const T tol = P_.contact_tolerance;
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     const Body<T>& b = bodies_[i];
     if (!b.awake()) continue;  // 7.3
     if (scene_.effects.ground && scene_.ground.present) {
-      // eqs 44-46 refined by eq 84: every corner below the plane is a contact
-      // point (a flat cube gets its 4 bottom corners, an edge 2, a corner 1),
+      // eqs 44-46 refined by eq 84: every corner below the plane, or above it by
+      // less than contact_tolerance (eq 97), is a contact point (a flat cube gets its 4 bottom corners, an edge 2, a corner 1),
       // in corner order; only the deepest (first on ties) carries the
       // position correction of eq 89, so the body is corrected once.
       int first = static_cast<int>(contacts_.size());
@@ -72,7 +52,7 @@ void World<T>::narrow_phase() {
       for (int k = 0; k < 8; ++k) {
         const Vec3<T> corner = box_corner(b.p, b.R, b.half, k);
         const T depth = ground_y_ - corner.y;
-        if (!(depth > T{})) continue;
+        if (!(depth > -P_.contact_tolerance)) continue;  // eq 97: speculative within the tolerance
         Contact<T> c;
         c.a = static_cast<int>(i);
         c.b = -1;
@@ -80,6 +60,7 @@ void World<T>::narrow_phase() {
         c.penetration = depth;
         c.point = corner;
         c.corrects = false;
+        c.feature = k;
         if (deepest < 0 || depth > contacts_[static_cast<std::size_t>(deepest)].penetration)
           deepest = static_cast<int>(contacts_.size());
         contacts_.push_back(c);
@@ -91,39 +72,34 @@ void World<T>::narrow_phase() {
     if (scene_.effects.sdf) {
       for (std::size_t k = 0; k < sdfs_.size(); ++k) {
         const SdfGrid<T>& g = sdfs_[k];
-        // eq 93: sample the 8 corners (radius 0) and the centre (radius min h).
-        Vec3<T> pts[9];
-        T radius[9];
-        for (int s = 0; s < 8; ++s) { pts[s] = box_corner(b.p, b.R, b.half, s); radius[s] = T{}; }
-        pts[8] = b.p;
-        radius[8] = Num<T>::min(b.half.x, Num<T>::min(b.half.y, b.half.z));
-        T dist[9], pen[9];
-        bool inside[9];
-        narrow::DeepestPoints<T> dp;
+        // eq 93: sample the 8 corners (radius 0) and the centre (radius min h);
+        // as on the ground (eq 84), every penetrating sample is a contact point
+        // with its own normal, and only the deepest carries the correction.
+        const int first = static_cast<int>(contacts_.size());
         int deepest = -1;
         for (int s = 0; s < 9; ++s) {
-          inside[s] = sdf_contains(g, pts[s]);
-          if (!inside[s]) continue;
-          dist[s] = sdf_distance(g, pts[s]);  // eq 33
-          pen[s] = radius[s] - dist[s];       // eq 35
-          if (!(pen[s] > T{})) { inside[s] = false; continue; }
-          if (deepest < 0 || pen[s] > pen[deepest]) deepest = s;
-          dp.offer_depth(pen[s]);
+          const Vec3<T> pt = s < 8 ? box_corner(b.p, b.R, b.half, s) : b.p;
+          const T radius = s < 8 ? T{} : Num<T>::min(b.half.x, Num<T>::min(b.half.y, b.half.z));
+          if (!sdf_contains(g, pt)) continue;
+          const T dist = sdf_distance(g, pt);  // eq 33
+          const T pen = radius - dist;         // eq 35
+          if (!(pen > -P_.contact_tolerance)) continue;  // eq 97
+          const Vec3<T> grad = sdf_gradient(g, pt);  // eq 34
+          if (length(grad) == T{}) continue;
+          Contact<T> c;
+          c.a = static_cast<int>(i);
+          c.b = -2 - static_cast<int>(k);
+          c.n = normalize(grad);         // eq 36
+          c.point = pt - c.n * dist;     // eq 37
+          c.penetration = pen;
+          c.corrects = false;
+          c.feature = s;
+          if (deepest < 0 || pen > contacts_[static_cast<std::size_t>(deepest)].penetration)
+            deepest = static_cast<int>(contacts_.size());
+          contacts_.push_back(c);
+          ++counters_.sdf_contacts;
         }
-        if (deepest < 0) continue;
-        const Vec3<T> grad = sdf_gradient(g, pts[deepest]);  // eq 34
-        if (length(grad) == T{}) continue;
-        const Vec3<T> n = normalize(grad);  // eq 36
-        for (int s = 0; s < 9; ++s)
-          if (inside[s]) dp.offer_point(pen[s], pts[s] - n * dist[s], tol);  // eq 37
-        Contact<T> c;
-        c.a = static_cast<int>(i);
-        c.b = -2 - static_cast<int>(k);
-        c.n = n;
-        c.penetration = dp.deepest;
-        c.point = dp.mean();
-        contacts_.push_back(c);
-        ++counters_.sdf_contacts;
+        if (deepest >= first) contacts_[static_cast<std::size_t>(deepest)].corrects = true;
         check_faults(static_cast<int>(i), "SDF contact");
       }
     }

@@ -558,10 +558,10 @@ class SceneReader {
         fail(path, "{\"raw\":" + shown(*raw) + "}: the raw value is out of range: must be " + int32_range);
       }
       v = static_cast<double>(R) / 65536.0;
-      text = "{\"raw\":" + std::to_string(R) + "} (= " + plain_number(v) + ")";
+      if (!in_range(v, r)) text = "{\"raw\":" + std::to_string(R) + "} (= " + plain_number(v) + ")";
     } else if (j.is_number()) {
       v = j.get<double>();
-      text = shown(j);
+      if (!in_range(v, r)) text = shown(j);
     } else {
       fail(path, shown(j) + " must be a number in " + range_text(r) +
                      " (or {\"raw\": R} for exactly R/65536), got " + with_article(j.type_name()));
@@ -570,9 +570,10 @@ class SceneReader {
     return v;
   }
 
+  // text: the value as written (only needed, and only computed, when v is out of range).
   void check_range(const std::string& path, double v, const std::string& text, const Range& r) const {
+    if (in_range(v, r)) return;  // false for NaN
     if (!std::isfinite(v)) fail(path, text + " is not a finite number: must be in " + range_text(r));
-    if (in_range(v, r)) return;
     std::string msg = text;
     if (std::fabs(v) >= kQ16Limit) {
       msg += " is outside the Q16.16 range |x| < 32768";
@@ -796,8 +797,11 @@ class SceneReader {
       if (t == "bowl") {
         check_keys(*gen, gpath, {"type", "center", "radius"});
         BowlParams bowl;
-        if (const json* v = find(*gen, "center")) bowl.center = vec3(*v, child(gpath, "center"), kGenCoord);
-        if (const json* v = find(*gen, "radius")) bowl.radius = real(*v, child(gpath, "radius"), kGenRadius);
+        bowl.center = vec3(require(*gen, gpath, "center", "give the sphere's centre (the middle of the rim) "
+                                                          "\"center\": [x, y, z] in m"),
+                           child(gpath, "center"), kGenCoord);
+        bowl.radius = real(require(*gen, gpath, "radius", "give the bowl's radius in m"), child(gpath, "radius"),
+                           kGenRadius);
         s = make_bowl_sdf(grid, bowl, std::move(name), s.material);
       } else if (t == "terrain") {
         check_keys(*gen, gpath, {"type", "base_height", "bumps"});
@@ -846,23 +850,27 @@ class Writer {
  public:
   std::string out;
 
-  void real(double v, const std::string& path) {
+  // The value at base.name[index] (index < 0: base.name). Paths are only
+  // built for the error.
+  void real(double v, const std::string& base, std::string_view name, long index = -1) {
     if (!std::isfinite(v)) {
+      std::string path = name.empty() ? base : child(base, name);
+      if (index >= 0) path = index_path(path, static_cast<std::size_t>(index));
       throw SceneError(path + ": " + plain_number(v) + " cannot be written to JSON: must be a finite number", path);
     }
     out += json_number(v);
   }
-  void reals(const double* v, std::size_t n, const std::string& path) {
+  void reals(const double* v, std::size_t n, const std::string& base, std::string_view name) {
     out += '[';
     for (std::size_t i = 0; i < n; ++i) {
       if (i) out += ", ";
-      real(v[i], index_path(path, i));
+      real(v[i], base, name, static_cast<long>(i));
     }
     out += ']';
   }
-  void vec3(const Vec3d& v, const std::string& path) {
+  void vec3(const Vec3d& v, const std::string& base, std::string_view name) {
     const double a[3] = {v.x, v.y, v.z};
-    reals(a, 3, path);
+    reals(a, 3, base, name);
   }
   void str(const std::string& s) { out += json(s).dump(-1, ' ', false, json::error_handler_t::replace); }
   void boolean(bool b) { out += b ? "true" : "false"; }
@@ -871,11 +879,12 @@ class Writer {
     out += k;
     out += "\": ";
   }
-  void material(const Material& m, const std::string& path) {
+  void material(const Material& m, const std::string& base, std::string_view name) {
+    const std::string path = child(base, name);
     out += "{\"restitution\": ";
-    real(m.restitution, child(path, "restitution"));
+    real(m.restitution, path, "restitution");
     out += ", \"friction\": ";
-    real(m.friction, child(path, "friction"));
+    real(m.friction, path, "friction");
     out += '}';
   }
 };
@@ -1035,47 +1044,46 @@ std::string scene_to_json(const Scene& s) {
     first = false;
     o += "    ";
     w.key(c.name);
-    const std::string p = child("constants", c.name);
     if (c.real) {
-      w.real(s.constants.*c.real, p);
+      w.real(s.constants.*c.real, "constants", c.name);
     } else if (c.integer) {
       o += std::to_string(s.constants.*c.integer);
     } else {
-      w.vec3(s.constants.*c.vec, p);
+      w.vec3(s.constants.*c.vec, "constants", c.name);
     }
   }
   o += "\n  },\n  \"ground\": {\"present\": ";
   w.boolean(s.ground.present);
   o += ", \"height\": ";
-  w.real(s.ground.height, "ground.height");
+  w.real(s.ground.height, "ground", "height");
   o += ", \"material\": ";
-  w.material(s.ground.material, "ground.material");
+  w.material(s.ground.material, "ground", "material");
   o += "},\n  \"bodies\": [";
   for (std::size_t i = 0; i < s.bodies.size(); ++i) {
     const BodyDesc& b = s.bodies[i];
     const std::string p = index_path("bodies", i);
     o += i ? ",\n    {" : "\n    {";
     w.key("half_extents");
-    w.vec3(b.half_extents, child(p, "half_extents"));
+    w.vec3(b.half_extents, p, "half_extents");
     o += ", ";
     w.key("mass");
-    w.real(b.mass, child(p, "mass"));
+    w.real(b.mass, p, "mass");
     o += ", ";
     w.key("position");
-    w.vec3(b.position, child(p, "position"));
+    w.vec3(b.position, p, "position");
     o += ", ";
     w.key("orientation");
     const double q[4] = {b.orientation.w, b.orientation.x, b.orientation.y, b.orientation.z};
-    w.reals(q, 4, child(p, "orientation"));
+    w.reals(q, 4, p, "orientation");
     o += ", ";
     w.key("velocity");
-    w.vec3(b.velocity, child(p, "velocity"));
+    w.vec3(b.velocity, p, "velocity");
     o += ", ";
     w.key("angular_velocity");
-    w.vec3(b.angular_velocity, child(p, "angular_velocity"));
+    w.vec3(b.angular_velocity, p, "angular_velocity");
     o += ", ";
     w.key("material");
-    w.material(b.material, child(p, "material"));
+    w.material(b.material, p, "material");
     o += ", ";
     w.key("static");
     w.boolean(b.is_static);
@@ -1094,21 +1102,20 @@ std::string scene_to_json(const Scene& s) {
     w.str(d.name);
     o += ",\n      ";
     w.key("min");
-    w.vec3(d.min, child(p, "min"));
+    w.vec3(d.min, p, "min");
     o += ",\n      ";
     w.key("max");
-    w.vec3(d.max, child(p, "max"));
+    w.vec3(d.max, p, "max");
     o += ",\n      \"resolution\": [" + std::to_string(d.nx) + ", " + std::to_string(d.ny) + ", " +
          std::to_string(d.nz) + "],\n      ";
     w.key("material");
-    w.material(d.material, child(p, "material"));
+    w.material(d.material, p, "material");
     o += ",\n      \"values\": [";
     const std::size_t per_line = d.nx > 0 ? static_cast<std::size_t>(d.nx) : 1;
     for (std::size_t k = 0; k < d.values.size(); ++k) {
       if (k) o += ',';
       o += (k % per_line == 0) ? "\n        " : " ";
-      if (!std::isfinite(d.values[k])) w.real(d.values[k], index_path(child(p, "values"), k));  // throws
-      o += json_number(d.values[k]);
+      w.real(d.values[k], p, "values", static_cast<long>(k));
     }
     o += d.values.empty() ? "]\n    }" : "\n      ]\n    }";
   }

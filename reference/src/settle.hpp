@@ -9,6 +9,12 @@
 namespace lockstep {
 
 template <class T>
+Vec3<T> World<T>::support_normal(std::size_t i) const {
+  const Contact<T>& c = contacts_[static_cast<std::size_t>(support_[i])];
+  return c.a == static_cast<int>(i) ? c.n : -c.n;
+}
+
+template <class T>
 void World<T>::settle() {
   // Supported awake bodies, lowest first (ties: index), so that eq 75 sees a
   // supporting body's final velocity before the body it supports.
@@ -25,15 +31,14 @@ void World<T>::settle() {
     Body<T>& b = bodies_[i];
     ++counters_.settling_bodies;
     const Contact<T>& c = contacts_[static_cast<std::size_t>(support_[i])];
-    const bool is_a = c.a == idx;
-    const Vec3<T> n = is_a ? c.n : -c.n;
-    const int other = is_a ? c.b : c.a;
+    const Vec3<T> n = support_normal(i);
+    const int other = c.a == idx ? c.b : c.a;
     const Vec3<T> v_support = (other >= 0 && bodies_[static_cast<std::size_t>(other)].awake())
                                   ? bodies_[static_cast<std::size_t>(other)].v : Vec3<T>{};
     b.v = cancel_resting_velocity(b.v, v_support, n, P_.rest_speed);  // eq 75
     const T speed = length(b.v);
-    const Alignment<T> al = alignment_of(b.R);        // eqs 64-66 (65 fixed)
-    b.w = righting(b.w, al, speed, P_);               // eqs 67-71
+    const Alignment<T> al = alignment_of(b.R, n);     // eqs 64-66 (65 fixed), up = support normal
+    b.w = righting(b.w, al, n, speed, P_);            // eqs 67-71
     b.w = regime_damping(b.w, al.alignment, P_);      // eqs 72-74
     b.v = settle_linear(b.v, speed, P_);              // eq 77
     check_faults(idx, "settling");

@@ -37,7 +37,7 @@ void World<T>::update_sleep() {
     ++counters_.sleep_updates;
     const bool supported = support_[i] >= 0;
     const T speed = length(b.v), spin = length(b.w);
-    const Alignment<T> al = alignment_of(b.R);
+    const Alignment<T> al = alignment_of(b.R, supported ? support_normal(i) : Vec3<T>{T{}, Num<T>::from_int(1), T{}});
     if (sleep_candidate(supported, speed, spin, al.alignment, P_)) ++b.sleep_counter;  // eq 78
     else b.sleep_counter = 0;
     switch (sleep_stage(b.sleep_counter, P_.drowsy_frames, P_.sleep_frames)) {

@@ -101,7 +101,7 @@ TYPED_TEST(AnalyticTest, SlidingDistance) {
 
 template <class T>
 double alignment(const World<T>& w, int i) {
-  return d(alignment_of(w.body(i).R).alignment);
+  return d(alignment_of(w.body(i).R, Vec3<T>{T{}, Num<T>::from_int(1), T{}}).alignment);
 }
 
 // C.4: a cube dropped on an edge tips onto a face and sleeps.

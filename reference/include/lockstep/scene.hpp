@@ -69,7 +69,7 @@ struct Constants {
   double slop = 0.001;                  // (m) eq 63
   double baumgarte = 1.0;               // percent (1) eq 63
   int solver_iterations = 4;            // sequential-impulse passes (7.2)
-  double contact_tolerance = 0.01;      // (m) corners this close to the deepest share the contact (84)
+  double contact_tolerance = 0.01;      // (m) points this close to touching are (speculative) contacts (84, 97)
   double kp = 30.0;                     // (rad/s) eq 69
   double kd = 10.0;                     // (1/s) eq 71
   double speed_factor_min = 0.5;        // eq 69

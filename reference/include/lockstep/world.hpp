@@ -70,6 +70,7 @@ struct Contact {
   Vec3<T> n, point;
   T penetration{};
   bool corrects = true;  // carries the body's position correction (eq 89)
+  int feature = 0;       // which point of the pair: ground corner k, SDF sample s, 0 for body pairs (eq 96)
   // Solver state (eqs 94-95), set when the solve starts.
   Vec3<T> r1, r2;        // lever arms c - p (eq 48)
   T v_n0{};              // approach speed before the solve (eq 49)
@@ -140,6 +141,7 @@ class World {
   void integrate_positions();    // integrate.hpp
   void update_sleep();           // sleep.hpp
   void update_derived(Body<T>& b);
+  Vec3<T> support_normal(std::size_t i) const;  // the normal of body i's support contact, towards i
   void check_faults(int body, const char* quantity);
   void check_finite();
 
@@ -150,6 +152,9 @@ class World {
   std::vector<SdfGrid<T>> sdfs_;
   std::vector<std::pair<int, int>> pairs_;
   std::vector<Contact<T>> contacts_;
+  // eq 96: last frame's accumulated impulses, sorted by (a, b, feature).
+  struct CachedImpulse { int a, b, feature; T j_n; Vec3<T> j_t; };
+  std::vector<CachedImpulse> warm_;
   std::vector<int> support_;          // per body: index of its first support contact, -1 if none
   T ground_y_{}, ground_e_{}, ground_mu_{};
   std::vector<T> sdf_e_, sdf_mu_;

@@ -46,18 +46,29 @@ LS_HD T low_speed_restitution(const T& e, const T& v_n, const T& restitution_min
 template <class T>
 LS_HD T normal_impulse(const T& e, const T& v_n, const T& k, const T& one) { return -(one + e) * v_n / k; }
 
-// eq 94 (the iterated form of eq 53, Catto's accumulated impulses): with v_n0
-// the approach speed at the start of the solve, each iteration drives v_n to
-// the restitution target -e v_n0: dj = -(v_n + e v_n0) / k, and the contact's
-// accumulated impulse stays >= 0: J' = max(J + dj, 0); the impulse applied is
-// J' - J. One iteration on one contact from J = 0 is exactly eq 53.
+// eq 94 (the iterated form of eq 53, Catto's accumulated impulses): each
+// iteration drives the normal velocity v_n to the contact's target velocity:
+// dj = -(v_n - target) / k, with the accumulated impulse kept >= 0:
+// J' = max(J + dj, 0); the impulse applied is J' - J. For a touching contact
+// the target is the bounce -e v_n0 (v_n0 <= 0, the approach speed at the start
+// of the solve); one iteration on one contact from J = 0 is then exactly eq 53.
 template <class T>
-LS_HD T accumulate_normal_impulse(T& accumulated, const T& v_n, const T& e, const T& v_n0, const T& k) {
-  const T dj = -(v_n + e * v_n0) / k;
+LS_HD T accumulate_normal_impulse(T& accumulated, const T& v_n, const T& target, const T& k) {
+  const T dj = -(v_n - target) / k;
   const T updated = Num<T>::max(accumulated + dj, T{});
   const T applied = updated - accumulated;
   accumulated = updated;
   return applied;
+}
+
+// eq 97: the target normal velocity of eq 94. Touching (penetration >= 0):
+// the bounce -e v_n0. Speculative (a gap g = -penetration > 0 within
+// contact_tolerance): the bodies may still approach by g this frame, so the
+// target is -g / dt and no impulse acts unless they would pass through.
+template <class T>
+LS_HD T contact_target_velocity(const T& penetration, const T& e, const T& v_n0, const T& inv_dt) {
+  if (penetration < T{}) return penetration * inv_dt;
+  return -(e * v_n0);
 }
 
 // eq 95 (the iterated form of eq 88): the friction impulse accumulated over

@@ -9,14 +9,14 @@ namespace lockstep {
 
 template <class T>
 struct Params {
-  T dt, half_dt;
+  T dt, half_dt, inv_dt;
   Vec3<T> gravity_dt;               // g*dt, the per-frame velocity change of eq 1/5
   T linear_damping_factor;          // 1 - lambda_v*dt (eq 6)
   T angular_damping_factor;         // 1 - lambda_w*dt (eq 13)
   T inv_cell_size;                  // 1 / cell_size (eq 26)
   T slop, baumgarte;                // eq 63
   int solver_iterations;
-  T contact_tolerance;              // eq 84
+  T contact_tolerance;              // eqs 84, 97: speculative contact distance
   T kp, kd_dt, speed_factor_min, speed_factor_max;  // eqs 69-71
   T support_normal_min;
   T align_fine, align_good, align_fair, damp_fine, damp_good, damp_fair;  // eqs 72-74
@@ -33,6 +33,7 @@ struct Params {
     Params p;
     p.dt = n(c.dt);
     p.half_dt = p.dt * n(0.5);
+    p.inv_dt = n(1.0) / p.dt;
     p.gravity_dt = Vec3<T>{n(c.gravity.x), n(c.gravity.y), n(c.gravity.z)} * p.dt;
     p.linear_damping_factor = n(1.0) - n(c.linear_damping) * p.dt;
     p.angular_damping_factor = n(1.0) - n(c.angular_damping) * p.dt;

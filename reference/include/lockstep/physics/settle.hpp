@@ -8,23 +8,26 @@ namespace lockstep {
 
 template <class T>
 struct Alignment {
-  Vec3<T> best_axis;  // unit body axis in world, pointing up (best_axis.y >= 0)
+  Vec3<T> best_axis;  // unit body axis in world, pointing along up (best_axis.up >= 0)
   T alignment{};      // eq 66 with the fix of eq 65: |a_best . up|
 };
 
 // eqs 64-66, with eq 65 fixed: the best axis maximises |a_i . up| (ties: the
 // lowest i) and is flipped to point up, so a cube lying flat upside down is
-// aligned (the source's signed argmax scores it 0). a_i = R e_i is column i of
-// R, and a_i . up is R[1][i].
+// aligned (the source's signed argmax scores it 0). a_i = R e_i is column i
+// of R, so a_i . up = (R^T up)_i. "up" is the support contact's normal
+// (docs/SPEC.md 4.1): (0, 1, 0) on the ground as in the source, the surface
+// normal on an SDF slope.
 template <class T>
-LS_HD Alignment<T> alignment_of(const Mat3<T>& R) {
+LS_HD Alignment<T> alignment_of(const Mat3<T>& R, const Vec3<T>& up) {
+  const Vec3<T> d = mat_transpose_mul(R, up);
   int best = 0;
   for (int i = 1; i < 3; ++i)
-    if (Num<T>::abs(R.row[1][i]) > Num<T>::abs(R.row[1][best])) best = i;
+    if (Num<T>::abs(d[i]) > Num<T>::abs(d[best])) best = i;
   Alignment<T> a;
   const Vec3<T> axis{R.row[0][best], R.row[1][best], R.row[2][best]};  // eq 64
-  a.best_axis = R.row[1][best] < T{} ? -axis : axis;
-  a.alignment = Num<T>::abs(R.row[1][best]);
+  a.best_axis = d[best] < T{} ? -axis : axis;
+  a.alignment = Num<T>::abs(d[best]);
   return a;
 }
 
@@ -33,8 +36,8 @@ LS_HD Alignment<T> alignment_of(const Mat3<T>& R) {
 // w' = w + kd * (w_desired - w.r) * dt * r. Skipped when |best_axis x up| is
 // below 2^-12 (r undefined: the body is already aligned).
 template <class T>
-LS_HD Vec3<T> righting(const Vec3<T>& w, const Alignment<T>& a, const T& speed, const Params<T>& P) {
-  const Vec3<T> axis{-a.best_axis.z, T{}, a.best_axis.x};  // best_axis x (0, 1, 0)
+LS_HD Vec3<T> righting(const Vec3<T>& w, const Alignment<T>& a, const Vec3<T>& up, const T& speed, const Params<T>& P) {
+  const Vec3<T> axis = cross(a.best_axis, up);
   if (length(axis) < P.righting_min_axis) return w;
   const Vec3<T> r = normalize(axis);                                          // eq 68
   const T misalign = Num<T>::from_int(1) - a.alignment;                       // eq 67

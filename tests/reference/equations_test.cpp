@@ -1,0 +1,320 @@
+// One test per equation (docs/SPEC.md), on the per-equation functions of
+// reference/include/lockstep/physics/, mostly in double with exact answers.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "engine_types.hpp"
+#include "lockstep/physics/aabb.hpp"
+#include "lockstep/physics/contact.hpp"
+#include "lockstep/physics/integrate.hpp"
+#include "lockstep/physics/sdf.hpp"
+#include "lockstep/physics/settle.hpp"
+#include "lockstep/physics/sleep.hpp"
+
+namespace lockstep::test {
+namespace {
+
+using V = Vec3<double>;
+using Q = Quat<double>;
+const Params<double> P = Params<double>::from(Constants{});
+const V kUp{0, 1, 0};
+
+Mat3<double> identity() { return rotation_matrix(Q{1, 0, 0, 0}); }
+// Rotation by angle a about the unit axis u.
+Q axis_angle(V u, double a) { return {std::cos(a / 2), u.x * std::sin(a / 2), u.y * std::sin(a / 2), u.z * std::sin(a / 2)}; }
+
+TEST(IntegrateTest, Eq1And5GravityAddsGDt) {
+  const V v = apply_gravity(V{1, 2, 3}, P.gravity_dt);
+  EXPECT_DOUBLE_EQ(v.y, 2 - 9.81 / 60);
+  EXPECT_DOUBLE_EQ(v.x, 1);
+}
+TEST(IntegrateTest, Eq2PositionUsesNewVelocity) {
+  const V p = integrate_position(V{0, 1, 0}, V{6, -12, 0}, 1.0 / 60);
+  EXPECT_DOUBLE_EQ(p.x, 0.1);
+  EXPECT_DOUBLE_EQ(p.y, 0.8);
+}
+TEST(IntegrateTest, Eq6And13DampingFactor) {
+  EXPECT_DOUBLE_EQ(P.linear_damping_factor, 1 - 0.005 / 60);
+  EXPECT_DOUBLE_EQ(P.angular_damping_factor, 1 - 0.02 / 60);
+  EXPECT_DOUBLE_EQ(apply_damping(V{2, 0, 0}, P.angular_damping_factor).x, 2 * (1 - 0.02 / 60));
+}
+// eqs 7-10: spinning at w about z for time t rotates by w t (to first order per step).
+TEST(IntegrateTest, Eq7To10QuaternionStepRotatesAboutOmega) {
+  Q q{1, 0, 0, 0};
+  const double w = 1.0, dt = 1e-4;
+  for (int i = 0; i < 10000; ++i) q = integrate_orientation(q, V{0, 0, w}, dt / 2);
+  // After 1 s: angle 1 rad about z.
+  EXPECT_NEAR(q.w, std::cos(0.5), 1e-4);
+  EXPECT_NEAR(q.z, std::sin(0.5), 1e-4);
+  EXPECT_NEAR(quat_length_sq(q), 1.0, 1e-12);  // eq 10
+}
+// eqs 14-18 and the fix of eq 19: a unit cube of 1 kg has I = 1/6, not 1/12.
+TEST(InertiaTest, UnitCubeMatchesPointMassIntegral) {
+  // Midpoint rule over a 60^3 grid of equal point masses filling the cube.
+  const int n = 60;
+  double ixx = 0;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      for (int k = 0; k < n; ++k) {
+        const double y = -0.5 + (j + 0.5) / n, z = -0.5 + (k + 0.5) / n;
+        ixx += (y * y + z * z) / (n * n * n);
+        (void)i;
+      }
+  EXPECT_NEAR(ixx, 1.0 / 6, 1e-4);
+  const V inv = box_inverse_inertia(V{0.5, 0.5, 0.5}, 1.0, 3.0);
+  EXPECT_DOUBLE_EQ(inv.x, 6.0);
+  EXPECT_NEAR(1.0 / inv.x, ixx, 1e-4);
+  EXPECT_GT(std::fabs(1.0 / inv.x - 1.0 / 12), 0.08);  // the source's (19) is wrong
+}
+// An angular impulse L applied at rest gives omega = L / I = 6 L for the unit cube.
+TEST(InertiaTest, AngularImpulseGivesOmegaOverI) {
+  BodyView<double> a{V{}, V{}, 1.0, identity(), box_inverse_inertia(V{0.5, 0.5, 0.5}, 1.0, 3.0)};
+  BodyView<double> ground{V{}, V{}, 0.0, identity(), V{}};
+  // A tangential impulse J = 1 N s at r = (0, 0.5, 0): L = r x J = (0, 0, -0.5).
+  apply_impulse(a, V{0, 0.5, 0}, ground, V{}, V{1, 0, 0});
+  EXPECT_DOUBLE_EQ(a.w.z, -0.5 * 6.0);
+  EXPECT_DOUBLE_EQ(a.v.x, 1.0);
+}
+// eq 90: for a box with unequal extents the world inverse inertia rotates with it.
+TEST(InertiaTest, Eq90WorldInverseInertiaFollowsRotation) {
+  const V inv = box_inverse_inertia(V{1.0, 0.1, 0.1}, 1.0, 3.0);  // long along x: small Ixx^-1? no: Ixx small -> inv large
+  const Mat3<double> R = rotation_matrix(axis_angle(V{0, 0, 1}, M_PI / 2));  // body x -> world y
+  const V out = apply_inverse_inertia(R, inv, V{0, 1, 0});
+  EXPECT_NEAR(out.y, inv.x, 1e-9);
+  EXPECT_NEAR(out.x, 0.0, 1e-9);
+}
+// eq 26 and 82: floor, not truncation, for negative coordinates.
+TEST(GridTest, Eq26CellIsFloor) {
+  EXPECT_EQ(cell_coord(-0.1, P.inv_cell_size), -1);
+  EXPECT_EQ(cell_coord(3.99, P.inv_cell_size), 0);
+  EXPECT_EQ(cell_coord(4.0, P.inv_cell_size), 1);
+  EXPECT_EQ(cell_coord(Q16::from_double(-0.1), Q16::from_double(0.25)), -1);
+}
+// eq 31: a unit cube rotated 45 degrees about y has AABB half extent sqrt(2)/2 in x and z.
+TEST(AabbTest, Eq31RotatedHalfExtents) {
+  const V h = rotated_half_extents(rotation_matrix(axis_angle(V{0, 1, 0}, M_PI / 4)), V{0.5, 0.5, 0.5});
+  EXPECT_NEAR(h.x, std::sqrt(0.5), 1e-12);
+  EXPECT_NEAR(h.y, 0.5, 1e-12);
+  EXPECT_NEAR(h.z, std::sqrt(0.5), 1e-12);
+}
+// eqs 38-43: the smallest overlap gives axis, sign and depth.
+TEST(AabbTest, Eq38To43OverlapNormalAndDepth) {
+  const Overlap<double> o = aabb_overlap(V{0, 0.9, 0.1}, V{0.5, 0.5, 0.5}, V{0, 0, 0}, V{0.5, 0.5, 0.5});
+  ASSERT_TRUE(o.hit);
+  EXPECT_EQ(o.axis, 1);
+  EXPECT_NEAR(o.penetration, 0.1, 1e-12);
+  EXPECT_EQ(o.normal.y, 1.0);  // from body 2 to body 1
+  const Overlap<double> below = aabb_overlap(V{0, -0.9, 0}, V{0.5, 0.5, 0.5}, V{0, 0, 0}, V{0.5, 0.5, 0.5});
+  EXPECT_EQ(below.normal.y, -1.0);
+  EXPECT_FALSE(aabb_overlap(V{0, 1.0, 0}, V{0.5, 0.5, 0.5}, V{0, 0, 0}, V{0.5, 0.5, 0.5}).hit);  // touching is not overlap (eq 39)
+}
+// eq 85: the contact point is the centre of the intersection box.
+TEST(AabbTest, Eq85ContactPointIsIntersectionCentre) {
+  const V c = aabb_contact_point(V{0.6, 0.9, 0}, V{0.5, 0.5, 0.5}, V{0, 0, 0}, V{0.5, 0.5, 0.5}, 0.5);
+  EXPECT_NEAR(c.x, 0.3, 1e-12);   // [0.1, 0.5]
+  EXPECT_NEAR(c.y, 0.45, 1e-12);  // [0.4, 0.5]
+  EXPECT_NEAR(c.z, 0.0, 1e-12);
+}
+// eq 48: relative velocity includes w x r.
+TEST(ContactTest, Eq48RelativeVelocity) {
+  BodyView<double> a{V{1, 0, 0}, V{0, 0, 2}, 1.0, identity(), V{6, 6, 6}};
+  BodyView<double> b{V{0, 0, 0}, V{}, 0.0, identity(), V{}};
+  const V v = relative_velocity(a, V{0, -0.5, 0}, b, V{});
+  EXPECT_DOUBLE_EQ(v.x, 1 + 2 * 0.5);  // w x r = (0,0,2) x (0,-0.5,0) = (1, 0, 0)
+}
+// 3.1 fixed: only approaching contacts (v_n < 0) get an impulse; a separating one gets none.
+TEST(ContactTest, SeparatingContactGetsNoImpulse) {
+  double acc = 0;
+  EXPECT_EQ(accumulate_normal_impulse(acc, 0.5, contact_target_velocity(0.0, 0.5, 0.0, 60.0), 1.0), 0.0);  // separating: clamped at 0
+  EXPECT_EQ(acc, 0.0);
+  EXPECT_GT(accumulate_normal_impulse(acc, -0.5, contact_target_velocity(0.0, 0.0, -0.5, 60.0), 1.0), 0.0);  // approaching
+  // And in a world: a cube moving up away from the ground it touches keeps its velocity.
+  Scene s = bare_scene();
+  s.effects.ground = true;
+  s.ground.present = true;
+  BodyDesc b = unit_cube(0, 0.499, 0);
+  b.velocity = {0, 2.0, 0};
+  s.bodies.push_back(b);
+  World<double> w(s);
+  w.step();
+  EXPECT_DOUBLE_EQ(w.body(0).v.y, 2.0);
+  EXPECT_EQ(w.counters().normal_impulses, 0u);
+}
+// eqs 50-55 (53 as one iteration of 94): a frictionless head-on hit on the ground with e.
+TEST(ContactTest, Eq53ImpulseReflectsWithRestitution) {
+  BodyView<double> a{V{0, -2, 0}, V{}, 0.5, identity(), V{}};
+  BodyView<double> g{V{}, V{}, 0.0, identity(), V{}};
+  const V n{0, 1, 0};
+  const double k = inverse_effective_mass(a, V{}, g, V{}, n);
+  EXPECT_DOUBLE_EQ(k, 0.5);
+  const double e = combined_restitution(0.5, 0.9);  // eq 50
+  EXPECT_DOUBLE_EQ(e, 0.5);
+  const double j = normal_impulse(e, -2.0, k, 1.0);  // eq 53
+  double acc = 0;
+  EXPECT_DOUBLE_EQ(accumulate_normal_impulse(acc, -2.0, contact_target_velocity(0.0, e, -2.0, 60.0), k), j);  // eq 94 == eq 53 on one iteration
+  apply_impulse(a, V{}, g, V{}, n * j);
+  EXPECT_DOUBLE_EQ(a.v.y, 1.0);  // -e * v
+}
+// eq 97: a speculative contact 0.005 m apart lets the bodies approach by the
+// gap and no further: approaching at 0.6 m/s (0.01 m per frame) is slowed to 0.3.
+TEST(ContactTest, Eq97SpeculativeContactClosesTheGapOnly) {
+  EXPECT_DOUBLE_EQ(contact_target_velocity(-0.005, 0.8, -0.6, 60.0), -0.3);
+  double acc = 0;
+  EXPECT_DOUBLE_EQ(accumulate_normal_impulse(acc, -0.6, -0.3, 1.0), 0.3);
+  acc = 0;
+  EXPECT_DOUBLE_EQ(accumulate_normal_impulse(acc, -0.2, -0.3, 1.0), 0.0);  // slow enough: untouched
+}
+// eq 76: below 0.5 m/s approach, no bounce.
+TEST(ContactTest, Eq76LowSpeedRestitution) {
+  EXPECT_EQ(low_speed_restitution(0.8, -0.4, 0.5), 0.0);
+  EXPECT_EQ(low_speed_restitution(0.8, -0.6, 0.5), 0.8);
+}
+// eqs 86-87: two free bodies exchange equal and opposite impulses; momentum is conserved.
+TEST(ContactTest, TwoBodyImpulseConservesMomentum) {
+  const V inv_i = box_inverse_inertia(V{0.5, 0.5, 0.5}, 1.0, 3.0);
+  BodyView<double> a{V{0, -1, 0}, V{0.3, 0, 0}, 1.0, identity(), inv_i};
+  BodyView<double> b{V{0, 1, 0}, V{}, 0.5, identity(), inv_i * 0.5};
+  const V p1{0.2, 1, 0}, p2{0, 0, 0}, c{0.1, 0.5, 0}, n{0, 1, 0};
+  const V r1 = c - p1, r2 = c - p2;
+  const double m1 = 1.0, m2 = 2.0;
+  const V mom0 = a.v * m1 + b.v * m2;
+  const double vn = dot(relative_velocity(a, r1, b, r2), n);
+  ASSERT_LT(vn, 0);
+  const double k = inverse_effective_mass(a, r1, b, r2, n);
+  apply_impulse(a, r1, b, r2, n * normal_impulse(0.0, vn, k, 1.0));
+  const V mom1 = a.v * m1 + b.v * m2;
+  EXPECT_NEAR(mom1.x, mom0.x, 1e-12);
+  EXPECT_NEAR(mom1.y, mom0.y, 1e-12);
+  EXPECT_NEAR(dot(relative_velocity(a, r1, b, r2), n), 0.0, 1e-12);  // e = 0: contact velocity cancelled
+}
+// eqs 56-62 with the fix (88): when mu j is not binding, friction stops the
+// tangential contact velocity exactly (j_t = |v_t| / k_t has units of impulse).
+TEST(ContactTest, FrictionStopsTangentialVelocityExactly) {
+  const V inv_i = box_inverse_inertia(V{0.5, 0.5, 0.5}, 1.0, 3.0);
+  BodyView<double> a{V{0.3, 0, 0.1}, V{}, 1.0, identity(), inv_i};
+  BodyView<double> g{V{}, V{}, 0.0, identity(), V{}};
+  const V r1{0.5, -0.5, 0.5}, n{0, 1, 0};
+  const V vt = tangential_velocity(relative_velocity(a, r1, g, V{}), n);
+  const V t = normalize(vt);
+  const double k_t = inverse_effective_mass(a, r1, g, V{}, t);
+  const double jt = friction_impulse(length(vt), k_t, combined_friction(0.5, 2.0), 10.0);  // eqs 58, 88
+  EXPECT_DOUBLE_EQ(combined_friction(0.5, 2.0), 1.0);
+  apply_impulse(a, r1, g, V{}, t * (-jt));
+  // The contact velocity along t is cancelled exactly (k_t is the effective mass along t).
+  EXPECT_NEAR(dot(relative_velocity(a, r1, g, V{}), t), 0.0, 1e-12);
+  // With the lever arm perpendicular to t the whole tangential velocity stops.
+  BodyView<double> b{V{0.3, 0, 0}, V{}, 1.0, identity(), inv_i};
+  const V r2{0, -0.5, 0.5};
+  const V vt2 = tangential_velocity(relative_velocity(b, r2, g, V{}), n);
+  const V t2 = normalize(vt2);
+  apply_impulse(b, r2, g, V{}, t2 * (-friction_impulse(length(vt2), inverse_effective_mass(b, r2, g, V{}, t2), 1.0, 10.0)));
+  EXPECT_NEAR(length(tangential_velocity(relative_velocity(b, r2, g, V{}), n)), 0.0, 1e-12);
+  // When mu j binds, the impulse is exactly mu j (Coulomb).
+  EXPECT_DOUBLE_EQ(friction_impulse(10.0, 1.0, 0.5, 2.0), 1.0);
+  V acc{};
+  const V dJ = accumulate_friction_impulse(acc, V{10, 0, 0}, 1.0, 0.5, 2.0);  // eq 95: clamped to the cone
+  EXPECT_DOUBLE_EQ(dJ.x, -1.0);
+}
+// eqs 63, 89: correction split by inverse mass, slop kept.
+TEST(ContactTest, Eq89BaumgarteSplit) {
+  V pa{0, 1, 0}, pb{0, 0, 0};
+  baumgarte_correction(pa, pb, V{0, 1, 0}, 0.101, 1.0, 3.0, 0.001, 1.0);
+  EXPECT_NEAR(pa.y, 1.025, 1e-12);
+  EXPECT_NEAR(pb.y, -0.075, 1e-12);
+  V qa{}, qb{};
+  baumgarte_correction(qa, qb, V{0, 1, 0}, 0.0005, 1.0, 0.0, 0.001, 1.0);  // within slop: nothing
+  EXPECT_EQ(qa.y, 0.0);
+}
+// eqs 64-67 with the fix of eq 65: a cube lying flat upside down is aligned.
+TEST(SettleTest, UpsideDownCubeIsAligned) {
+  const Alignment<double> a = alignment_of(rotation_matrix(axis_angle(V{1, 0, 0}, M_PI)), kUp);
+  EXPECT_NEAR(a.alignment, 1.0, 1e-12);
+  EXPECT_NEAR(a.best_axis.y, 1.0, 1e-12);
+  // The source's signed argmax would pick x (dot 0) and call it misaligned.
+  const Mat3<double> R = rotation_matrix(axis_angle(V{1, 0, 0}, M_PI));
+  EXPECT_LT(R.row[1][1], -0.99);
+}
+// 4.1: on a slope "up" is the support normal: a cube resting flat on a 30
+// degree slope is aligned with it.
+TEST(SettleTest, AlignmentIsMeasuredAgainstTheSupportNormal) {
+  const Q tilt = axis_angle(V{0, 0, 1}, M_PI / 6);
+  const V slope_normal = rotate(tilt, kUp);
+  EXPECT_NEAR(alignment_of(rotation_matrix(tilt), slope_normal).alignment, 1.0, 1e-12);
+  EXPECT_NEAR(alignment_of(rotation_matrix(tilt), kUp).alignment, std::cos(M_PI / 6), 1e-12);
+}
+// eq 66-67: edge contact 0.707, corner 0.577.
+TEST(SettleTest, Eq66AlignmentOfEdgeAndCorner) {
+  EXPECT_NEAR(alignment_of(rotation_matrix(axis_angle(V{0, 0, 1}, M_PI / 4)), kUp).alignment, std::sqrt(0.5), 1e-12);
+  const Q corner{0.88807383397711526, 0.32505758367186816, 0, -0.32505758367186816};
+  EXPECT_NEAR(alignment_of(rotation_matrix(normalize(corner)), kUp).alignment, 1 / std::sqrt(3.0), 1e-3);
+}
+// eqs 68-71: the righting step turns the best axis towards up.
+TEST(SettleTest, Eq68To71RightingTurnsTowardsUp) {
+  const Alignment<double> a = alignment_of(rotation_matrix(axis_angle(V{0, 0, 1}, 0.3)), kUp);
+  const V w = righting(V{}, a, kUp, 0.0, P);
+  // best axis is body y rotated +0.3 about z: (-sin .3, cos .3, 0); r = a x up = (0,0,-sin .3) normalised = -z.
+  EXPECT_LT(w.z, 0.0);
+  const double misalign = 1 - std::cos(0.3);
+  EXPECT_NEAR(-w.z, 30 * 2.0 * misalign * 10 / 60, 1e-12);  // kd dt (kp sf misalign - 0)
+  // Already aligned: unchanged.
+  EXPECT_EQ(righting(V{1, 2, 3}, alignment_of(identity(), kUp), kUp, 0.0, P).y, 2.0);
+}
+// eqs 72-74: the damping regimes.
+TEST(SettleTest, Eq72To74Regimes) {
+  EXPECT_DOUBLE_EQ(regime_damping(V{1, 0, 0}, 0.999, P).x, 0.4);
+  EXPECT_DOUBLE_EQ(regime_damping(V{1, 0, 0}, 0.995, P).x, 0.7);
+  EXPECT_DOUBLE_EQ(regime_damping(V{1, 0, 0}, 0.96, P).x, 0.85);
+  EXPECT_DOUBLE_EQ(regime_damping(V{1, 0, 0}, 0.9, P).x, 1.0);
+}
+// eq 75: slow relative normal velocity is removed; fast is kept.
+TEST(SettleTest, Eq75RestingCancellation) {
+  EXPECT_DOUBLE_EQ(cancel_resting_velocity(V{1, -0.1, 0}, V{}, V{0, 1, 0}, 0.2).y, 0.0);
+  EXPECT_DOUBLE_EQ(cancel_resting_velocity(V{1, -0.1, 0}, V{}, V{0, 1, 0}, 0.2).x, 1.0);
+  EXPECT_DOUBLE_EQ(cancel_resting_velocity(V{0, -0.5, 0}, V{}, V{0, 1, 0}, 0.2).y, -0.5);
+  EXPECT_DOUBLE_EQ(cancel_resting_velocity(V{0, -0.5, 0}, V{0, -0.45, 0}, V{0, 1, 0}, 0.2).y, -0.45);
+}
+// eq 77: linear settling damping below settle_speed.
+TEST(SettleTest, Eq77LinearSettling) {
+  EXPECT_DOUBLE_EQ(settle_linear(V{0.2, 0, 0}, 0.2, P).x, 0.2 * 0.9);
+  EXPECT_DOUBLE_EQ(settle_linear(V{0.5, 0, 0}, 0.5, P).x, 0.5);
+}
+// eqs 78-80: candidate, drowsy, asleep.
+TEST(SleepTest, Eq78To80Stages) {
+  EXPECT_TRUE(sleep_candidate(true, 0.01, 0.01, 0.999, P));
+  EXPECT_FALSE(sleep_candidate(false, 0.01, 0.01, 0.999, P));
+  EXPECT_FALSE(sleep_candidate(true, 0.06, 0.01, 0.999, P));
+  EXPECT_FALSE(sleep_candidate(true, 0.01, 0.01, 0.98, P));
+  EXPECT_EQ(sleep_stage(9, 10, 30), SleepStage::kAwake);
+  EXPECT_EQ(sleep_stage(10, 10, 30), SleepStage::kDrowsy);
+  EXPECT_EQ(sleep_stage(30, 10, 30), SleepStage::kAsleep);
+}
+// eq 81: wake conditions.
+TEST(SleepTest, Eq81Wake) {
+  EXPECT_FALSE(wakes(-9.81 / 60, 0.001, P));  // one frame of gravity does not wake
+  EXPECT_TRUE(wakes(-0.3, 0.0, P));
+  EXPECT_TRUE(wakes(0.0, 0.03, P));
+}
+// eqs 32-37: a planar SDF d = y sampled trilinearly is exact; its normal is +y.
+TEST(SdfTest, Eq32To36PlaneIsExact) {
+  std::vector<double> values;
+  const int n = 5;
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) values.push_back(-2.0 + j);  // y from -2 to 2
+  SdfGrid<double> g;
+  g.min = V{-2, -2, -2};
+  g.max = V{2, 2, 2};
+  g.n[0] = g.n[1] = g.n[2] = n;
+  g.inv_spacing = V{1, 1, 1};
+  g.spacing = V{1, 1, 1};
+  g.values = values.data();
+  EXPECT_NEAR(sdf_distance(g, V{0.3, -0.25, 1.7}), -0.25, 1e-12);
+  EXPECT_NEAR(sdf_distance(g, V{0.3, 2.0, 1.7}), 2.0, 1e-12);  // on the upper bound
+  const V nrm = normalize(sdf_gradient(g, V{0.3, 0.1, 0.2}));
+  EXPECT_NEAR(nrm.y, 1.0, 1e-12);
+  EXPECT_FALSE(sdf_contains(g, V{0, 2.5, 0}));
+}
+
+}  // namespace
+}  // namespace lockstep::test
