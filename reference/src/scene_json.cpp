@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <initializer_list>
 #include <iterator>
@@ -82,6 +83,9 @@ std::string with_article(const char* type_name) {
   if (t == "object" || t == "array") return "an " + t;
   return "a " + t;
 }
+
+// A key or string as JSON writes it: quoted, with control characters escaped.
+std::string json_quoted(const std::string& s) { return json(s).dump(-1, ' ', false, json::error_handler_t::replace); }
 
 // The value as the document wrote it (truncated for long arrays/strings).
 std::string shown(const json& j) {
@@ -276,8 +280,8 @@ class DomBuilder {
     Frame& f = stack_.back();
     if (f.container->contains(k)) {
       const std::string path = child(current_path_of_container(), k);
-      throw SceneError(prefix(source_) + path + ": duplicate key \"" + k +
-                           "\": each key may appear once per object (remove one of them)",
+      throw SceneError(prefix(source_) + path + ": duplicate key " + json_quoted(k) +
+                           ": each key may appear once per object (remove one of them)",
                        path);
     }
     f.key = std::move(k);
@@ -461,6 +465,13 @@ class SceneReader {
   }
 
   void check_keys(const json& obj, const std::string& path, std::initializer_list<std::string_view> allowed) const {
+    check_keys_in(obj, path, allowed, nullptr);
+  }
+
+  // Rejects the first key of obj not in allowed, suggesting the nearest one.
+  // what_list: how to name the allowed keys (nullptr: list them).
+  template <class Names>
+  void check_keys_in(const json& obj, const std::string& path, const Names& allowed, const char* what_list) const {
     for (auto it = obj.begin(); it != obj.end(); ++it) {
       const std::string& k = it.key();
       if (std::find(allowed.begin(), allowed.end(), k) != allowed.end()) continue;
@@ -475,7 +486,7 @@ class SceneReader {
           best = std::string(a);
         }
       }
-      std::string msg = "unknown key \"" + k + "\": allowed keys here are " + list;
+      std::string msg = "unknown key " + json_quoted(k) + ": " + (what_list ? std::string(what_list) : "allowed keys here are " + list);
       if (best_d <= std::max<std::size_t>(2, k.size() / 3)) {
         msg += " (did you mean \"" + best + "\"? keys are case-sensitive)";
       } else {
@@ -622,33 +633,13 @@ class SceneReader {
 
   void read_constants(const json& j, const std::string& path, Constants& c) const {
     expect_object(j, path, "an object {\"dt\": 0.016666666666666666, ...} of constants to override");
-    {
-      static const std::vector<std::string_view> names = [] {
-        std::vector<std::string_view> n;
-        for (const ConstSpec& s : constant_specs()) n.emplace_back(s.name);
-        return n;
-      }();
-      for (auto it = j.begin(); it != j.end(); ++it) {
-        if (std::find(names.begin(), names.end(), it.key()) == names.end()) {
-          // Reuse check_keys' message (with its suggestion) for the first unknown key.
-          std::string best;
-          std::size_t best_d = std::numeric_limits<std::size_t>::max();
-          for (std::string_view n : names) {
-            const std::size_t d = edit_distance(it.key(), n);
-            if (d < best_d) {
-              best_d = d;
-              best = std::string(n);
-            }
-          }
-          std::string msg = "unknown key \"" + it.key() + "\": not a constant (docs/SCENES.md lists all " +
-                            std::to_string(names.size()) + " by their C++ names)";
-          if (best_d <= std::max<std::size_t>(2, it.key().size() / 3)) {
-            msg += "; did you mean \"" + best + "\"? keys are case-sensitive";
-          }
-          fail(child(path, it.key()), msg);
-        }
-      }
-    }
+    static const std::vector<std::string_view> names = [] {
+      std::vector<std::string_view> n;
+      for (const ConstSpec& spec : constant_specs()) n.emplace_back(spec.name);
+      return n;
+    }();
+    check_keys_in(j, path, names, "not a constant: keys are the C++ names of lockstep::Constants, listed in "
+                                  "docs/SCENES.md");
     for (const ConstSpec& s : constant_specs()) {
       const json* v = find(j, s.name);
       if (v == nullptr) continue;
@@ -662,7 +653,8 @@ class SceneReader {
         c.*s.vec = vec3(*v, p, s.range);
       }
     }
-    // Rules between constants (each names the field given last in the pair).
+    // Rules between constants, checked once each is in range (the error names
+    // the first field of its rule).
     for (auto [name, member] : {std::pair{"linear_damping", &Constants::linear_damping},
                                 std::pair{"angular_damping", &Constants::angular_damping}}) {
       if (!(c.*member < 1.0 / c.dt)) {
@@ -1004,15 +996,17 @@ Scene parse_scene(std::string_view json_text, std::string_view source_name) {
   try {
     json::sax_parse(json_text.begin(), json_text.end(), &dom, json::input_format_t::json, /*strict=*/true,
                     /*ignore_comments=*/false);
-  } catch (const SceneError&) {
-    throw;
-  } catch (const std::exception& e) {  // not expected: the SAX handler reports every parse error
+  } catch (const json::exception& e) {  // not expected: the SAX handler reports every parse error
     throw SceneError(prefix(source_name) + "cannot parse the JSON: " + e.what(), "");
   }
   return SceneReader(source_name).read(dom.root);
 }
 
 Scene load_scene_file(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    throw SceneError(path + ": cannot read the scene file: it is a directory (give the path of a .json file)", "");
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) {
     throw SceneError(path + ": cannot open the scene file: " + std::strerror(errno) +
