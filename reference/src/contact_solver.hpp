@@ -83,19 +83,21 @@ void World<T>::solve_contacts() {
       ++counters_.solver_contacts;
       const T v_n = dot(relative_velocity(A, c.r1, B, c.r2), c.n);  // eqs 48-49
       // Only approaching contacts bounce (the fix of 3.1): the target -e v_n0 uses v_n0 <= 0.
-      const T target = contact_target_velocity(c.penetration, c.e, Num<T>::min(c.v_n0, T{}), P_.inv_dt);  // eq 97
+      const T target = contact_target_velocity(c.penetration, c.e, Num<T>::min(c.v_n0, T{}), P_.dt, P_.inv_dt);  // eq 97
       const T dj = accumulate_normal_impulse(c.j_n, v_n, target, c.k_n);  // eqs 53, 94
       if (dj != T{}) {
         apply_impulse(A, c.r1, B, c.r2, c.n * dj);  // eq 87
         ++counters_.normal_impulses;
       }
-      if (fx.friction && c.j_n > T{}) {
+      // Friction (eqs 56-62, 88, 95); also re-clamps a friction impulse left
+      // above mu J_n when J_n has since dropped.
+      if (fx.friction && (c.j_n > T{} || !(c.j_t == Vec3<T>{}))) {
         const Vec3<T> v_tan = tangential_velocity(relative_velocity(A, c.r1, B, c.r2), c.n);  // eq 56
-        if (length(v_tan) > T{}) {                                                            // eq 57
-          const Vec3<T> t = normalize(v_tan);                                                 // eq 60
-          const T k_t = inverse_effective_mass(A, c.r1, B, c.r2, t);                          // eq 88
-          const Vec3<T> dJ = accumulate_friction_impulse(c.j_t, v_tan, k_t, c.mu, c.j_n);     // eqs 88, 95
-          apply_impulse(A, c.r1, B, c.r2, dJ);                                                // eqs 61-62, 87
+        const bool sliding = length(v_tan) > T{};                                             // eq 57
+        const T k_t = sliding ? inverse_effective_mass(A, c.r1, B, c.r2, normalize(v_tan)) : one;  // eqs 60, 88
+        const Vec3<T> dJ = accumulate_friction_impulse(c.j_t, v_tan, k_t, c.mu, c.j_n);      // eq 95
+        if (!(dJ == Vec3<T>{})) {
+          apply_impulse(A, c.r1, B, c.r2, dJ);  // eqs 61-62, 87
           ++counters_.friction_steps;
         }
       }

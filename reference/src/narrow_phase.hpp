@@ -31,7 +31,7 @@ void World<T>::narrow_phase() {
     c.a = i;
     c.b = j;
     c.n = o.normal;
-    c.penetration = o.penetration - P_.contact_tolerance;
+    c.penetration = o.penetration - (half_tol + half_tol);  // the true overlap (negative: a gap)
     c.point = aabb_contact_point(A.p, A.aabb_half, B.p, B.aabb_half, Num<T>::from_double(0.5));  // eq 85
     pair_contacts.push_back(c);
     ++counters_.body_contacts;
@@ -106,10 +106,12 @@ void World<T>::narrow_phase() {
   }
   contacts_.insert(contacts_.end(), pair_contacts.begin(), pair_contacts.end());
 
-  // Support contacts (settling, sleep): a normal within acos(support_normal_min) of up.
+  // Support contacts (settling, sleep): touching (penetration >= 0, not a
+  // speculative gap) with a normal within acos(support_normal_min) of up.
   std::fill(support_.begin(), support_.end(), -1);
   for (std::size_t ci = 0; ci < contacts_.size(); ++ci) {
     const Contact<T>& c = contacts_[ci];
+    if (c.penetration < T{}) continue;
     if (c.n.y >= P_.support_normal_min && support_[static_cast<std::size_t>(c.a)] < 0)
       support_[static_cast<std::size_t>(c.a)] = static_cast<int>(ci);
     if (c.b >= 0 && -c.n.y >= P_.support_normal_min && support_[static_cast<std::size_t>(c.b)] < 0)

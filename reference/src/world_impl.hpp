@@ -111,7 +111,7 @@ void World<T>::step() {
   integrate_velocities();                               // 1: eqs 1, 5, 6, 13
   broad_phase();                                        // 2: eqs 31, 82, 83
   narrow_phase();                                       // 3-4: eqs 32-47, 84, 85, 93; wake eq 81
-  solve_contacts();                                     // 5: eqs 48-62, 76, 86-88
+  solve_contacts();                                     // 5: eqs 48-62, 76, 86-88, 94-97
   if (scene_.effects.settling) settle();                // 6: eqs 64-75, 77
   correct_positions();                                  // 7: eqs 63, 89
   integrate_positions();                                // 8: eqs 2, 7-10

@@ -49,13 +49,13 @@ struct SdfDesc {
 struct Effects {
   bool gravity = true;       // eq 5
   bool damping = true;       // eqs 6, 13
-  bool ground = true;        // eqs 44-46 against the ground plane
-  bool contacts = true;      // body-body: broadphase 6.1 and eqs 38-43, 47
-  bool friction = true;      // eqs 56-62
+  bool ground = true;        // eqs 44-46 refined by 84, 97 against the ground plane
+  bool contacts = true;      // body-body: broadphase 6.1 (82-83) and eqs 38-43, 85, 97
+  bool friction = true;      // eqs 56-62, 88, 95
   bool restitution = true;   // eqs 50, 53 with e > 0 and (76)
   bool settling = true;      // eqs 64-74 and 4.4-4.6
   bool sleep = true;         // 4.7, 5.1
-  bool sdf = true;           // eqs 32-37 (needs SDF volumes)
+  bool sdf = true;           // eqs 32-37, 93, 97 (needs SDF volumes)
 };
 
 // Appendix A: every constant, overridable per scene. Q16.16 raw values are in

@@ -54,7 +54,7 @@ struct StageCounters {
   std::uint64_t body_contacts = 0;       // eqs 38-43, 85
   std::uint64_t solver_contacts = 0;     // contact visits in the solver
   std::uint64_t normal_impulses = 0;     // eqs 53, 86-87
-  std::uint64_t restitution_bounces = 0; // impulses with e_eff > 0 (eq 76)
+  std::uint64_t restitution_bounces = 0; // contacts prepared with e_eff > 0 (eqs 76, 97)
   std::uint64_t friction_steps = 0;      // eqs 56-62, 88
   std::uint64_t corrections = 0;         // eq 63 / 89
   std::uint64_t settling_bodies = 0;     // eqs 64-75, 77

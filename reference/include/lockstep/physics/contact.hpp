@@ -64,10 +64,12 @@ LS_HD T accumulate_normal_impulse(T& accumulated, const T& v_n, const T& target,
 // eq 97: the target normal velocity of eq 94. Touching (penetration >= 0):
 // the bounce -e v_n0. Speculative (a gap g = -penetration > 0 within
 // contact_tolerance): the bodies may still approach by g this frame, so the
-// target is -g / dt and no impulse acts unless they would pass through.
+// target is -g / dt and no impulse acts unless they would pass through;
+// except that a bouncing contact (e > 0) that closes its gap within this frame
+// (-v_n0 dt > g) bounces now, so a gap never swallows a bounce.
 template <class T>
-LS_HD T contact_target_velocity(const T& penetration, const T& e, const T& v_n0, const T& inv_dt) {
-  if (penetration < T{}) return penetration * inv_dt;
+LS_HD T contact_target_velocity(const T& penetration, const T& e, const T& v_n0, const T& dt, const T& inv_dt) {
+  if (penetration < T{} && !(e > T{} && -(v_n0 * dt) > -penetration)) return penetration * inv_dt;
   return -(e * v_n0);
 }
 
