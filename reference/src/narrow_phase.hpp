@@ -107,16 +107,25 @@ void World<T>::narrow_phase() {
   contacts_.insert(contacts_.end(), pair_contacts.begin(), pair_contacts.end());
 
   // Support contacts (settling, sleep): touching (penetration >= 0, not a
-  // speculative gap) with a normal within acos(support_normal_min) of up.
+  // speculative gap) with a normal within acos(support_normal_min) of up. A
+  // body's support normal is the normalised sum of those normals (turned
+  // towards it): (0, 1, 0) on the ground, the mean surface normal under a box
+  // resting on a curved SDF.
   std::fill(support_.begin(), support_.end(), -1);
+  std::fill(support_n_.begin(), support_n_.end(), Vec3<T>{});
+  auto add_support = [&](int body, std::size_t ci, const Vec3<T>& n) {
+    const auto i = static_cast<std::size_t>(body);
+    if (support_[i] < 0) support_[i] = static_cast<int>(ci);
+    support_n_[i] += n;
+  };
   for (std::size_t ci = 0; ci < contacts_.size(); ++ci) {
     const Contact<T>& c = contacts_[ci];
     if (c.penetration < T{}) continue;
-    if (c.n.y >= P_.support_normal_min && support_[static_cast<std::size_t>(c.a)] < 0)
-      support_[static_cast<std::size_t>(c.a)] = static_cast<int>(ci);
-    if (c.b >= 0 && -c.n.y >= P_.support_normal_min && support_[static_cast<std::size_t>(c.b)] < 0)
-      support_[static_cast<std::size_t>(c.b)] = static_cast<int>(ci);
+    if (c.n.y >= P_.support_normal_min) add_support(c.a, ci, c.n);
+    if (c.b >= 0 && -c.n.y >= P_.support_normal_min) add_support(c.b, ci, -c.n);
   }
+  for (std::size_t i = 0; i < bodies_.size(); ++i)
+    if (support_[i] >= 0) support_n_[i] = normalize(support_n_[i]);
 }
 
 }  // namespace lockstep

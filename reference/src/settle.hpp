@@ -9,10 +9,7 @@
 namespace lockstep {
 
 template <class T>
-Vec3<T> World<T>::support_normal(std::size_t i) const {
-  const Contact<T>& c = contacts_[static_cast<std::size_t>(support_[i])];
-  return c.a == static_cast<int>(i) ? c.n : -c.n;
-}
+Vec3<T> World<T>::support_normal(std::size_t i) const { return support_n_[i]; }
 
 template <class T>
 void World<T>::settle() {
@@ -30,7 +27,7 @@ void World<T>::settle() {
     const auto i = static_cast<std::size_t>(idx);
     Body<T>& b = bodies_[i];
     ++counters_.settling_bodies;
-    const Contact<T>& c = contacts_[static_cast<std::size_t>(support_[i])];
+    const Contact<T>& c = contacts_[static_cast<std::size_t>(support_[i])];  // the first support: whose velocity (75) uses
     const Vec3<T> n = support_normal(i);
     const int other = c.a == idx ? c.b : c.a;
     const Vec3<T> v_support = (other >= 0 && bodies_[static_cast<std::size_t>(other)].awake())

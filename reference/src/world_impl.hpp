@@ -75,6 +75,7 @@ World<T>::World(const Scene& scene) : scene_(scene), P_(Params<T>::from(scene.co
   }
   for (std::size_t k = 0; k < sdfs_.size(); ++k) sdfs_[k].values = sdf_values_[k].data();
   support_.assign(bodies_.size(), -1);
+  support_n_.assign(bodies_.size(), Vec3<T>{});
 }
 
 template <class T>
@@ -93,6 +94,7 @@ World<T>& World<T>::operator=(const World& other) {
   contacts_ = other.contacts_;
   warm_ = other.warm_;
   support_ = other.support_;
+  support_n_ = other.support_n_;
   ground_y_ = other.ground_y_;
   ground_e_ = other.ground_e_;
   ground_mu_ = other.ground_mu_;

@@ -141,7 +141,7 @@ class World {
   void integrate_positions();    // integrate.hpp
   void update_sleep();           // sleep.hpp
   void update_derived(Body<T>& b);
-  Vec3<T> support_normal(std::size_t i) const;  // the normal of body i's support contact, towards i
+  Vec3<T> support_normal(std::size_t i) const;  // body i's support normal (4.1), towards i
   void check_faults(int body, const char* quantity);
   void check_finite();
 
@@ -156,6 +156,7 @@ class World {
   struct CachedImpulse { int a, b, feature; T j_n; Vec3<T> j_t; };
   std::vector<CachedImpulse> warm_;
   std::vector<int> support_;          // per body: index of its first support contact, -1 if none
+  std::vector<Vec3<T>> support_n_;    // per body: its support normal (4.1), zero if none
   T ground_y_{}, ground_e_{}, ground_mu_{};
   std::vector<T> sdf_e_, sdf_mu_;
   StageCounters counters_;
