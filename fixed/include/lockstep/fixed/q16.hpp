@@ -16,6 +16,7 @@
 //              q16_status(); the engine reads it and reports body, frame and
 //              quantity.
 #pragma once
+#include <cmath>
 #include <compare>
 #include <cstdint>
 #include <limits>
@@ -33,7 +34,7 @@ enum Q16Flag : std::uint32_t {
 };
 
 // The calling thread's sticky flags. Operations only ever OR into it.
-inline thread_local std::uint32_t q16_status_word = 0;
+inline constinit thread_local std::uint32_t q16_status_word = 0;
 inline std::uint32_t q16_status() { return q16_status_word; }
 inline void q16_clear_status() { q16_status_word = 0; }
 // Returns the flags raised since the last call and clears them.
@@ -60,17 +61,18 @@ constexpr std::int64_t floor_div(std::int64_t n, std::int64_t d) {
   if ((n % d != 0) && ((n < 0) != (d < 0))) --q;
   return q;
 }
-// floor(sqrt(n)) for n >= 0, exact (bit-by-bit, no floating point).
-constexpr std::uint64_t isqrt(std::uint64_t n) {
-  std::uint64_t res = 0;
-  std::uint64_t bit = std::uint64_t{1} << 62;
-  while (bit > n) bit >>= 2;
-  while (bit != 0) {
-    if (n >= res + bit) { n -= res + bit; res = (res >> 1) + bit; }
-    else { res >>= 1; }
-    bit >>= 2;
-  }
-  return res;
+// floor(sqrt(n)), exact. The double square root (correctly rounded by IEEE
+// 754, but n itself may round on conversion) is only a first guess; the
+// integer corrections make r the unique value with r^2 <= n < (r + 1)^2,
+// tested without overflow as r <= n / r.
+inline std::uint64_t isqrt(std::uint64_t n) {
+  if (n == 0) return 0;
+  auto r = static_cast<std::uint64_t>(std::sqrt(static_cast<double>(n)));
+  if (r > 0xFFFFFFFFull) r = 0xFFFFFFFFull;  // floor(sqrt(2^64 - 1))
+  if (r == 0) r = 1;                          // n >= 1
+  while (r > n / r) --r;
+  while (r + 1 <= n / (r + 1)) ++r;
+  return r;
 }
 }  // namespace q16detail
 
