@@ -2,6 +2,7 @@
 // and Baumgarte position correction (eqs 63, 89).
 #pragma once
 #include <algorithm>
+#include <vector>
 
 #include "lockstep/physics/contact.hpp"
 #include "lockstep/world.hpp"
@@ -56,8 +57,10 @@ void World<T>::solve_contacts() {
     c.j_t = Vec3<T>{};
     check_faults(c.a, "contact preparation");
   }
-  // eq 96: warm start from last frame's impulses of the same contact
-  // (same bodies, same feature), applied in contact order.
+  // eq 96: warm start from last frame's normal impulse of the same contact
+  // (same bodies, same feature), applied in contact order. Friction starts
+  // from zero: a warm-started friction impulse on a resting manifold kept
+  // re-injecting spin about the normal that 4 iterations did not remove.
   if (!warm_.empty()) {
     for (Contact<T>& c : contacts_) {
       const auto it = std::lower_bound(warm_.begin(), warm_.end(), c, [](const CachedImpulse& w, const Contact<T>& k) {
@@ -68,47 +71,72 @@ void World<T>::solve_contacts() {
       BodyView<T> A = solver::view_of(bodies_, c.a, identity);
       BodyView<T> B = solver::view_of(bodies_, c.b, identity);
       c.j_n = it->j_n;
-      c.j_t = fx.friction ? it->j_t - c.n * dot(it->j_t, c.n) : Vec3<T>{};  // onto this frame's tangent plane
-      apply_impulse(A, c.r1, B, c.r2, c.n * c.j_n + c.j_t);
+      apply_impulse(A, c.r1, B, c.r2, c.n * c.j_n);
       if (A.inv_mass > T{}) { Body<T>& b = bodies_[static_cast<std::size_t>(c.a)]; b.v = A.v; b.w = A.w; }
       if (B.inv_mass > T{}) { Body<T>& b = bodies_[static_cast<std::size_t>(c.b)]; b.v = B.v; b.w = B.w; }
       check_faults(c.a, "warm start impulse");
     }
   }
+  // Iterations (eqs 94, 95, 97). A body's contacts with one environment
+  // object (its ground corners, its samples of one SDF) form a manifold that
+  // is solved Jacobi-style (eq 99): every point's impulse is computed from the
+  // same velocities, then all are applied, so a symmetric landing stays
+  // symmetric; manifolds and body pairs follow each other Gauss-Seidel-style
+  // in contact order.
+  std::vector<T> dj(8 + 1);
+  std::vector<Vec3<T>> dJ(8 + 1);
   for (int it = 0; it < P_.solver_iterations; ++it) {
-    for (Contact<T>& c : contacts_) {
-      BodyView<T> A = solver::view_of(bodies_, c.a, identity);
-      BodyView<T> B = solver::view_of(bodies_, c.b, identity);
-      if (!(c.k_n > T{})) continue;  // both sides immovable
-      ++counters_.solver_contacts;
-      const T v_n = dot(relative_velocity(A, c.r1, B, c.r2), c.n);  // eqs 48-49
-      // Only approaching contacts bounce (the fix of 3.1): the target -e v_n0 uses v_n0 <= 0.
-      const T target = contact_target_velocity(c.penetration, c.e, Num<T>::min(c.v_n0, T{}), P_.dt, P_.inv_dt);  // eq 97
-      const T dj = accumulate_normal_impulse(c.j_n, v_n, target, c.k_n);  // eqs 53, 94
-      if (dj != T{}) {
-        apply_impulse(A, c.r1, B, c.r2, c.n * dj);  // eq 87
+    for (std::size_t s = 0; s < contacts_.size();) {
+      std::size_t e = s + 1;
+      if (contacts_[s].b < 0)
+        while (e < contacts_.size() && contacts_[e].a == contacts_[s].a && contacts_[e].b == contacts_[s].b) ++e;
+      const int ia = contacts_[s].a, ib = contacts_[s].b;
+      BodyView<T> A = solver::view_of(bodies_, ia, identity);
+      BodyView<T> B = solver::view_of(bodies_, ib, identity);
+      if (!(contacts_[s].k_n > T{})) { s = e; continue; }  // both sides immovable
+      if (dj.size() < e - s) { dj.resize(e - s); dJ.resize(e - s); }
+      const BodyView<T> A0 = A, B0 = B;
+      for (std::size_t k = s; k < e; ++k) {
+        Contact<T>& c = contacts_[k];
+        ++counters_.solver_contacts;
+        const T v_n = dot(relative_velocity(A0, c.r1, B0, c.r2), c.n);  // eqs 48-49
+        // Only approaching contacts bounce (the fix of 3.1): the target -e v_n0 uses v_n0 <= 0.
+        const T target = contact_target_velocity(c.penetration, c.e, Num<T>::min(c.v_n0, T{}), P_.dt, P_.inv_dt);  // eq 97
+        dj[k - s] = accumulate_normal_impulse(c.j_n, v_n, target, c.k_n);  // eqs 53, 94
+      }
+      for (std::size_t k = s; k < e; ++k) {
+        if (dj[k - s] == T{}) continue;
+        apply_impulse(A, contacts_[k].r1, B, contacts_[k].r2, contacts_[k].n * dj[k - s]);  // eq 87
         ++counters_.normal_impulses;
       }
       // Friction (eqs 56-62, 88, 95); also re-clamps a friction impulse left
       // above mu J_n when J_n has since dropped.
-      if (fx.friction && (c.j_n > T{} || !(c.j_t == Vec3<T>{}))) {
-        const Vec3<T> v_tan = tangential_velocity(relative_velocity(A, c.r1, B, c.r2), c.n);  // eq 56
-        const bool sliding = length(v_tan) > T{};                                             // eq 57
-        const T k_t = sliding ? inverse_effective_mass(A, c.r1, B, c.r2, normalize(v_tan)) : one;  // eqs 60, 88
-        const Vec3<T> dJ = accumulate_friction_impulse(c.j_t, v_tan, k_t, c.mu, c.j_n);      // eq 95
-        if (!(dJ == Vec3<T>{})) {
-          apply_impulse(A, c.r1, B, c.r2, dJ);  // eqs 61-62, 87
+      if (fx.friction) {
+        const BodyView<T> A1 = A, B1 = B;
+        for (std::size_t k = s; k < e; ++k) {
+          Contact<T>& c = contacts_[k];
+          dJ[k - s] = Vec3<T>{};
+          if (!(c.j_n > T{}) && c.j_t == Vec3<T>{}) continue;
+          const Vec3<T> v_tan = tangential_velocity(relative_velocity(A1, c.r1, B1, c.r2), c.n);  // eq 56
+          const bool sliding = length(v_tan) > T{};                                               // eq 57
+          const T k_t = sliding ? inverse_effective_mass(A1, c.r1, B1, c.r2, normalize(v_tan)) : one;  // eqs 60, 88
+          dJ[k - s] = accumulate_friction_impulse(c.j_t, v_tan, k_t, c.mu, c.j_n);               // eq 95
+        }
+        for (std::size_t k = s; k < e; ++k) {
+          if (dJ[k - s] == Vec3<T>{}) continue;
+          apply_impulse(A, contacts_[k].r1, B, contacts_[k].r2, dJ[k - s]);  // eqs 61-62, 87
           ++counters_.friction_steps;
         }
       }
-      if (A.inv_mass > T{}) { Body<T>& b = bodies_[static_cast<std::size_t>(c.a)]; b.v = A.v; b.w = A.w; }
-      if (B.inv_mass > T{}) { Body<T>& b = bodies_[static_cast<std::size_t>(c.b)]; b.v = B.v; b.w = B.w; }
-      check_faults(c.a, c.b >= 0 ? "contact impulse (with another body)" : "contact impulse");
+      if (A.inv_mass > T{}) { Body<T>& b = bodies_[static_cast<std::size_t>(ia)]; b.v = A.v; b.w = A.w; }
+      if (B.inv_mass > T{}) { Body<T>& b = bodies_[static_cast<std::size_t>(ib)]; b.v = B.v; b.w = B.w; }
+      check_faults(ia, ib >= 0 ? "contact impulse (with another body)" : "contact impulse");
+      s = e;
     }
   }
   warm_.clear();
   for (const Contact<T>& c : contacts_)
-    if (c.j_n > T{}) warm_.push_back({c.a, c.b, c.feature, c.j_n, c.j_t});
+    if (c.j_n > T{}) warm_.push_back({c.a, c.b, c.feature, c.j_n});
   std::sort(warm_.begin(), warm_.end(), [](const CachedImpulse& x, const CachedImpulse& y) {
     return x.a != y.a ? x.a < y.a : (x.b != y.b ? x.b < y.b : x.feature < y.feature);
   });

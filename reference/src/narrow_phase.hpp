@@ -106,8 +106,9 @@ void World<T>::narrow_phase() {
   }
   contacts_.insert(contacts_.end(), pair_contacts.begin(), pair_contacts.end());
 
-  // Support contacts (settling, sleep): touching (penetration >= 0, not a
-  // speculative gap) with a normal within acos(support_normal_min) of up. A
+  // Support contacts (settling, sleep): touching to within slop (penetration
+  // > -slop: rounding noise of a resting body is not a gap, a speculative gap
+  // is) with a normal within acos(support_normal_min) of up. A
   // body's support normal is the normalised sum of those normals (turned
   // towards it): (0, 1, 0) on the ground, the mean surface normal under a box
   // resting on a curved SDF.
@@ -120,7 +121,7 @@ void World<T>::narrow_phase() {
   };
   for (std::size_t ci = 0; ci < contacts_.size(); ++ci) {
     const Contact<T>& c = contacts_[ci];
-    if (c.penetration < T{}) continue;
+    if (!(c.penetration > -P_.slop)) continue;
     if (c.n.y >= P_.support_normal_min) add_support(c.a, ci, c.n);
     if (c.b >= 0 && -c.n.y >= P_.support_normal_min) add_support(c.b, ci, -c.n);
   }

@@ -153,7 +153,7 @@ class World {
   std::vector<std::pair<int, int>> pairs_;
   std::vector<Contact<T>> contacts_;
   // eq 96: last frame's accumulated impulses, sorted by (a, b, feature).
-  struct CachedImpulse { int a, b, feature; T j_n; Vec3<T> j_t; };
+  struct CachedImpulse { int a, b, feature; T j_n; };
   std::vector<CachedImpulse> warm_;
   std::vector<int> support_;          // per body: index of its first support contact, -1 if none
   std::vector<Vec3<T>> support_n_;    // per body: its support normal (4.1), zero if none
