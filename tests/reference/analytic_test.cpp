@@ -103,7 +103,8 @@ TYPED_TEST(AnalyticTest, BounceIsNotSwallowedByASpeculativeGap) {
       if (vy > 0) ratio = vy / -(prev_vy + gdt);
       prev_vy = vy;
     }
-    EXPECT_NEAR(ratio, 0.8, 0.8 * 2e-3) << "drop from y = " << 1.5 + 0.0025 * k;
+    // Bouncing from a gap g < 0.01 m rebounds at sqrt(1 - 2 g_n g / (e v)^2) of e v (eq 97): >= 0.99 at 4.4 m/s.
+    EXPECT_NEAR(ratio, 0.8, 0.8 * 1e-2) << "drop from y = " << 1.5 + 0.0025 * k;
   }
 }
 

@@ -126,9 +126,9 @@ TEST(ContactTest, Eq48RelativeVelocity) {
 // 3.1 fixed: only approaching contacts (v_n < 0) get an impulse; a separating one gets none.
 TEST(ContactTest, SeparatingContactGetsNoImpulse) {
   double acc = 0;
-  EXPECT_EQ(accumulate_normal_impulse(acc, 0.5, contact_target_velocity(0.0, 0.5, 0.0, 1.0 / 60, 60.0), 1.0), 0.0);  // separating: clamped at 0
+  EXPECT_EQ(accumulate_normal_impulse(acc, 0.5, contact_target_velocity(0.0, 0.5, 0.0, 9.81, 1.0 / 60, 60.0), 1.0), 0.0);  // separating: clamped at 0
   EXPECT_EQ(acc, 0.0);
-  EXPECT_GT(accumulate_normal_impulse(acc, -0.5, contact_target_velocity(0.0, 0.0, -0.5, 1.0 / 60, 60.0), 1.0), 0.0);  // approaching
+  EXPECT_GT(accumulate_normal_impulse(acc, -0.5, contact_target_velocity(0.0, 0.0, -0.5, 9.81, 1.0 / 60, 60.0), 1.0), 0.0);  // approaching
   // And in a world: a cube moving up away from the ground it touches keeps its velocity.
   Scene s = bare_scene();
   s.effects.ground = true;
@@ -152,17 +152,20 @@ TEST(ContactTest, Eq53ImpulseReflectsWithRestitution) {
   EXPECT_DOUBLE_EQ(e, 0.5);
   const double j = normal_impulse(e, -2.0, k, 1.0);  // eq 53
   double acc = 0;
-  EXPECT_DOUBLE_EQ(accumulate_normal_impulse(acc, -2.0, contact_target_velocity(0.0, e, -2.0, 1.0 / 60, 60.0), k), j);  // eq 94 == eq 53 on one iteration
+  EXPECT_DOUBLE_EQ(accumulate_normal_impulse(acc, -2.0, contact_target_velocity(0.0, e, -2.0, 9.81, 1.0 / 60, 60.0), k), j);  // eq 94 == eq 53 on one iteration
   apply_impulse(a, V{}, g, V{}, n * j);
   EXPECT_DOUBLE_EQ(a.v.y, 1.0);  // -e * v
 }
 // eq 97: a speculative contact 0.005 m apart lets the bodies approach by the
 // gap and no further: approaching at 0.6 m/s (0.01 m per frame) is slowed to 0.3.
 TEST(ContactTest, Eq97SpeculativeContactClosesTheGapOnly) {
-  EXPECT_DOUBLE_EQ(contact_target_velocity(-0.005, 0.0, -0.6, 1.0 / 60, 60.0), -0.3);
-  // A bouncing contact that closes its gap this frame bounces now (-e v_n0).
-  EXPECT_DOUBLE_EQ(contact_target_velocity(-0.005, 0.8, -0.6, 1.0 / 60, 60.0), 0.8 * 0.6);
-  EXPECT_DOUBLE_EQ(contact_target_velocity(-0.009, 0.8, -0.3, 1.0 / 60, 60.0), -0.54);  // too slow to reach it
+  EXPECT_DOUBLE_EQ(contact_target_velocity(-0.005, 0.0, -0.6, 9.81, 1.0 / 60, 60.0), -0.3);
+  // A bouncing contact that closes its gap this frame bounces now, with the
+  // speed left after rising back to the gap: sqrt((e v)^2 - 2 g gap).
+  EXPECT_NEAR(contact_target_velocity(-0.005, 0.8, -3.0, 9.81, 1.0 / 60, 60.0), std::sqrt(2.4 * 2.4 - 2 * 9.81 * 0.005), 1e-12);
+  EXPECT_DOUBLE_EQ(contact_target_velocity(-0.005, 0.8, -3.0, 0.0, 1.0 / 60, 60.0), 2.4);  // no gravity: e v
+  EXPECT_DOUBLE_EQ(contact_target_velocity(-0.009, 0.8, -0.6, 9.81, 1.0 / 60, 60.0), 0.0);  // too slow to rise: lands
+  EXPECT_DOUBLE_EQ(contact_target_velocity(-0.009, 0.8, -0.3, 9.81, 1.0 / 60, 60.0), -0.54);  // too slow to reach it
   double acc = 0;
   EXPECT_DOUBLE_EQ(accumulate_normal_impulse(acc, -0.6, -0.3, 1.0), 0.3);
   acc = 0;

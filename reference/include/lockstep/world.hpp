@@ -75,6 +75,7 @@ struct Contact {
   Vec3<T> r1, r2;        // lever arms c - p (eq 48)
   T v_n0{};              // approach speed before the solve (eq 49)
   T e{}, mu{};           // eqs 50 + 76, eq 58
+  T g_n{};               // gravity pressing the contact shut (eq 97)
   T k_n{};               // inverse effective mass along n (eq 86)
   T j_n{};               // accumulated normal impulse (eq 94)
   Vec3<T> j_t;           // accumulated friction impulse (eq 95)

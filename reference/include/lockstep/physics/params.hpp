@@ -10,6 +10,7 @@ namespace lockstep {
 template <class T>
 struct Params {
   T dt, half_dt, inv_dt;
+  Vec3<T> gravity;                  // g (m/s^2), eq 5
   Vec3<T> gravity_dt;               // g*dt, the per-frame velocity change of eq 1/5
   T linear_damping_factor;          // 1 - lambda_v*dt (eq 6)
   T angular_damping_factor;         // 1 - lambda_w*dt (eq 13)
@@ -34,7 +35,8 @@ struct Params {
     p.dt = n(c.dt);
     p.half_dt = p.dt * n(0.5);
     p.inv_dt = n(1.0) / p.dt;
-    p.gravity_dt = Vec3<T>{n(c.gravity.x), n(c.gravity.y), n(c.gravity.z)} * p.dt;
+    p.gravity = Vec3<T>{n(c.gravity.x), n(c.gravity.y), n(c.gravity.z)};
+    p.gravity_dt = p.gravity * p.dt;
     p.linear_damping_factor = n(1.0) - n(c.linear_damping) * p.dt;
     p.angular_damping_factor = n(1.0) - n(c.angular_damping) * p.dt;
     p.inv_cell_size = n(1.0) / n(c.cell_size);
