@@ -164,7 +164,8 @@ TEST(ContactTest, Eq97SpeculativeContactClosesTheGapOnly) {
   // speed left after rising back to the gap: sqrt((e v)^2 - 2 g gap).
   EXPECT_NEAR(contact_target_velocity(-0.005, 0.8, -3.0, 9.81, 1.0 / 60, 60.0), std::sqrt(2.4 * 2.4 - 2 * 9.81 * 0.005), 1e-12);
   EXPECT_DOUBLE_EQ(contact_target_velocity(-0.005, 0.8, -3.0, 0.0, 1.0 / 60, 60.0), 2.4);  // no gravity: e v
-  EXPECT_DOUBLE_EQ(contact_target_velocity(-0.009, 0.8, -0.6, 9.81, 1.0 / 60, 60.0), 0.0);  // too slow to rise: lands
+  EXPECT_NEAR(contact_target_velocity(-0.009, 0.8, -0.6, 9.81, 1.0 / 60, 60.0), std::sqrt(0.48 * 0.48 - 2 * 9.81 * 0.009), 1e-12);
+  EXPECT_DOUBLE_EQ(contact_target_velocity(-0.009, 0.8, -0.6, 50.0, 1.0 / 60, 60.0), 0.0);  // too slow to rise back: lands
   EXPECT_DOUBLE_EQ(contact_target_velocity(-0.009, 0.8, -0.3, 9.81, 1.0 / 60, 60.0), -0.54);  // too slow to reach it
   double acc = 0;
   EXPECT_DOUBLE_EQ(accumulate_normal_impulse(acc, -0.6, -0.3, 1.0), 0.3);
