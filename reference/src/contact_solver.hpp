@@ -98,13 +98,24 @@ void World<T>::solve_contacts() {
       if (!(contacts_[s].k_n > T{})) { s = e; continue; }  // both sides immovable
       if (dj.size() < e - s) { dj.resize(e - s); dJ.resize(e - s); }
       const BodyView<T> A0 = A, B0 = B;
+      // eq 99: the manifold's points share one body, so their simultaneous
+      // impulses add up; o = sum_k m^-1 / k_n,k is the part of the body's
+      // needed velocity change the points deliver together (1 for a unit
+      // cube's 4 bottom corners, 2 for 8 sunken corners, 3.8 for a tall thin
+      // box standing), and each point's effective mass is scaled by max(1, o).
+      T split = one;
+      if (e - s > 1) {
+        T o{};
+        for (std::size_t k = s; k < e; ++k) o += (A.inv_mass + B.inv_mass) / contacts_[k].k_n;
+        if (o > one) split = o;
+      }
       for (std::size_t k = s; k < e; ++k) {
         Contact<T>& c = contacts_[k];
         ++counters_.solver_contacts;
         const T v_n = dot(relative_velocity(A0, c.r1, B0, c.r2), c.n);  // eqs 48-49
         // Only approaching contacts bounce (the fix of 3.1): the target -e v_n0 uses v_n0 <= 0.
         const T target = contact_target_velocity(c.penetration, c.e, Num<T>::min(c.v_n0, T{}), c.g_n, P_.dt, P_.inv_dt);  // eq 97
-        dj[k - s] = accumulate_normal_impulse(c.j_n, v_n, target, c.k_n);  // eqs 53, 94
+        dj[k - s] = accumulate_normal_impulse(c.j_n, v_n, target, c.k_n * split);  // eqs 53, 94, 99
       }
       for (std::size_t k = s; k < e; ++k) {
         if (dj[k - s] == T{}) continue;
@@ -121,7 +132,7 @@ void World<T>::solve_contacts() {
           if (!(c.j_n > T{}) && c.j_t == Vec3<T>{}) continue;
           const Vec3<T> v_tan = tangential_velocity(relative_velocity(A1, c.r1, B1, c.r2), c.n);  // eq 56
           const bool sliding = length(v_tan) > T{};                                               // eq 57
-          const T k_t = sliding ? inverse_effective_mass(A1, c.r1, B1, c.r2, normalize(v_tan)) : one;  // eqs 60, 88
+          const T k_t = sliding ? inverse_effective_mass(A1, c.r1, B1, c.r2, normalize(v_tan)) * split : one;  // eqs 60, 88, 99
           dJ[k - s] = accumulate_friction_impulse(c.j_t, v_tan, k_t, c.mu, c.j_n);               // eq 95
         }
         for (std::size_t k = s; k < e; ++k) {

@@ -172,6 +172,22 @@ TEST(ContactTest, Eq97SpeculativeContactClosesTheGapOnly) {
   acc = 0;
   EXPECT_DOUBLE_EQ(accumulate_normal_impulse(acc, -0.2, -0.3, 1.0), 0.0);  // slow enough: untouched
 }
+// eq 99: a cube sunk entirely below the ground while falling at 10 m/s has 8
+// corner contacts solved together; split keeps their sum from overshooting,
+// so it is stopped and pushed back out instead of falling through.
+TEST(ContactTest, Eq99SunkenCubeIsStoppedNotOvershot) {
+  Scene s = bare_scene();
+  s.effects.gravity = s.effects.ground = true;
+  s.ground.present = true;
+  BodyDesc b = unit_cube(0, -0.6, 0);
+  b.velocity = {0, -10, 0};
+  s.bodies.push_back(b);
+  World<double> w(s);
+  w.step();
+  EXPECT_GE(w.body(0).v.y, -1e-9);  // stopped in one frame
+  for (int i = 0; i < 60; ++i) w.step();
+  EXPECT_GT(w.body(0).p.y, 0.0);  // and pushed back out (eq 89), not fallen through
+}
 // eq 76: below 0.5 m/s approach, no bounce.
 TEST(ContactTest, Eq76LowSpeedRestitution) {
   EXPECT_EQ(low_speed_restitution(0.8, -0.4, 0.5), 0.0);
