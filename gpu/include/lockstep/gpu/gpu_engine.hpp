@@ -1,0 +1,112 @@
+// The GPU engine: the float physics of World<float>, scheduled data-parallel
+// (docs/GPU.md). One source serves two builds: CUDA kernels on a device, and
+// the host build, whose loops call the same per-element functions. A
+// GpuWorld picks the device when one is present and the library was built
+// with CUDA, and otherwise runs the host build and says so in description().
+#pragma once
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "lockstep/compare/engine.hpp"
+#include "lockstep/scene.hpp"
+#include "lockstep/world.hpp"
+
+namespace lockstep {
+
+// The "gpu" engine behind the EngineRun interface (name() is "gpu").
+std::unique_ptr<EngineRun> make_gpu_engine(const Scene& scene);
+
+namespace gpu {
+
+enum class Backend {
+  kAuto,    // the device when present, else the host build (with a message on stderr)
+  kHost,    // the host build of the same engine
+  kDevice,  // the CUDA device; throws std::runtime_error when there is none
+};
+
+struct GpuOptions {
+  Backend backend = Backend::kAuto;
+  // Settling sweeps per frame: eq 75 reads the support's settled velocity when
+  // the support is lower (World<T> settles bottom-up in one ordered pass); k
+  // sweeps give World<T>'s result exactly for support chains up to k bodies.
+  int settle_passes = 4;
+  // Jacobi relaxation of body-body impulses: a body adds relaxation / m times
+  // the sum of its m approaching body-body contacts' velocity changes.
+  float relaxation = 1.0f;
+  bool stage_timing = false;  // per-stage times (CUDA events on the device)
+  bool quiet = false;         // no stderr message when falling back to the host build
+};
+
+// Stages timed by stage_times() (docs/GPU.md "Stages").
+enum Stage : int {
+  kStageIntegrate = 0,  // velocity integration (eqs 1, 5, 6, 13)
+  kStageBroadphase,     // awake grid: keys, radix sort, cell table
+  kStageFrozenGrid,     // sleeping/static grid, rebuilt only when that set changes
+  kStagePairs,          // neighbour count, wake (81), scan
+  kStageContacts,       // neighbour lists, ground/SDF contacts, supports
+  kStageSolve,          // solver iterations
+  kStageSettle,         // settling sweeps
+  kStageCorrect,        // position correction and integration (63, 89, 2, 7-10)
+  kStageSleep,          // sleep update (78-80), awake-set compaction
+  kStageCount
+};
+const char* stage_name(int stage);
+
+struct StageTimes {
+  std::array<double, kStageCount> ms{};  // summed over `frames` frames (milliseconds)
+  int frames = 0;
+};
+
+// True when the library was built with CUDA and a CUDA device is present.
+bool cuda_device_available();
+// True when the library was built with CUDA (nvcc found, LOCKSTEP_CUDA on).
+bool built_with_cuda();
+
+// The CUDA device the engine uses (empty name when there is none).
+struct DeviceInfo {
+  std::string name;
+  int multiprocessors = 0;
+  double memory_gib = 0.0;
+};
+DeviceInfo device_info();
+// Device-to-device copy bandwidth (GB/s, bytes read plus bytes written) of
+// cudaMemcpy over a buffer of `bytes`, the median of `repetitions` timed
+// copies (CUDA events); 0 without a device.
+double measure_copy_bandwidth(std::size_t bytes, int repetitions);
+// Starts or stops the CUDA profiler's capture (cudaProfilerStart/Stop), so
+// that `ncu --profile-from-start off` measures only the frames in between;
+// no effect without a device.
+void profiler_capture(bool on);
+
+class GpuWorld {
+ public:
+  explicit GpuWorld(const Scene& scene, const GpuOptions& options = {});
+  ~GpuWorld();
+  GpuWorld(const GpuWorld&) = delete;
+  GpuWorld& operator=(const GpuWorld&) = delete;
+
+  void step();  // throws RunError on a non-finite value (like World<float>)
+  int frame() const;
+  int body_count() const;
+  int awake_count() const;  // awake bodies after the last step
+  bool on_device() const;
+  std::string description() const;  // "gpu: CUDA on <device>" or "gpu (host build: ...)"
+  const StageCounters& counters() const;
+  StageTimes stage_times() const;
+  void reset_stage_times();
+
+  // State of body i after the last step (downloaded once per frame).
+  BodySnapshot body(int i) const;
+  std::uint64_t state_hash() const;  // eq 92 over the IEEE binary64 bits, like World<float>
+  double energy() const;             // (J), evaluated in double like World<float>
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace gpu
+}  // namespace lockstep

@@ -1,0 +1,385 @@
+// The frame of the GPU engine (docs/GPU.md), written once over a backend B
+// that supplies buffers, a parallel for over n elements (a CUDA kernel or a
+// host loop), a stable radix sort, a prefix sum and a maximum. The kernels
+// are the functors of stages.hpp. Instantiated with HostBackend (host.cpp)
+// and, when built with CUDA, DeviceBackend (device.cu).
+#pragma once
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <utility>
+
+#include "pipeline_base.hpp"
+#include "stages.hpp"
+
+namespace lockstep::gpu {
+
+template <class B>
+class Pipeline final : public PipelineBase {
+  template <class T>
+  using Buf = typename B::template Buf<T>;
+
+ public:
+  Pipeline(const InitialState& s, const GpuOptions& options, std::string description, bool on_device)
+      : be_(options.stage_timing), opt_(options) {
+    n_ = s.n;
+    on_device_ = on_device;
+    description_ = std::move(description);
+    const auto n = static_cast<std::size_t>(s.n);
+    auto up = [&](auto& buf, const auto& host) {
+      buf.resize(std::max<std::size_t>(host.size(), 1));
+      be_.upload(buf.data(), host.data(), host.size());
+    };
+    up(pos_, s.pos); up(rot_, s.rot); up(aabb_, s.aabb); up(half_, s.half); up(inert_, s.inert);
+    up(vel_[0], s.vel); up(ang_[0], s.ang);
+    up(flags_, s.flags); up(sleep_counter_, s.sleep_counter); up(sleep_frame_, s.sleep_frame);
+    for (int b = 1; b < 3; ++b) { vel_[b].resize(n + 1); ang_[b].resize(n + 1); }
+    std::vector<std::uint8_t> large_flag(n, 0);
+    for (int i : s.large) large_flag[static_cast<std::size_t>(i)] = 1;
+    up(large_flag_, large_flag);
+    up(large_, s.large);
+    n_large_ = static_cast<int>(s.large.size());
+    n_static_ = s.n_static;
+    n_static_small_ = s.n_static_small;
+    up(sdf_values_, s.sdf_values);
+    std::vector<SdfGrid<float>> grids = s.sdf_grids;
+    for (std::size_t k = 0; k < grids.size(); ++k) grids[k].values = sdf_values_.data() + s.sdf_offsets[k];
+    up(sdf_grids_, grids);
+    up(sdf_material_, s.sdf_material);
+    n_sdf_ = static_cast<int>(grids.size());
+    for (auto* l : {&list_[0], &list_[1], &woken_, &woken_tmp_, &keep_, &keep_scan_, &count_[0], &count_[1],
+                    &slot_of_[0], &slot_of_[1], &stamp_[0], &stamp_[1]})
+      l->resize(n + 1);
+    dir_count_.resize(n + 1);
+
+    be_.fill_int(stamp_[0].data(), -1, n + 1);
+    be_.fill_int(stamp_[1].data(), -1, n + 1);
+    up(list_[0], s.awake);
+    n_awake_ = static_cast<int>(s.awake.size());
+    wake_flag_.resize(n + 1);
+    be_.fill_int(wake_flag_.data(), 0, n + 1);
+    support_idx_.resize(n + 1);
+    support_n_.resize(n + 1);
+    for (auto& b : settle_) b.resize(n + 1);
+    p_tmp_.resize(n + 1);
+    q_tmp_.resize(n + 1);
+    if (n_sdf_ > 0) { sdf_c0_.resize(9 * n * static_cast<std::size_t>(n_sdf_) + 1); sdf_c1_.resize(9 * n * static_cast<std::size_t>(n_sdf_) + 1); }
+    ctr_.resize(kCounterCount);
+    be_.fill_zero(ctr_.data(), kCounterCount);
+    scal_.resize(3);
+    sc_.P = s.P;
+    sc_.half_tol = s.P.contact_tolerance * Num<float>::from_double(0.5);
+    sc_.gravity = s.fx.gravity;
+    sc_.damping = s.fx.damping;
+    sc_.friction = s.fx.friction;
+    sc_.restitution = s.fx.restitution;
+    sc_.sleep = s.fx.sleep;
+    sc_.ground_on = s.ground_on;
+    sc_.ground_y = s.ground_y;
+    sc_.ground_e = s.ground_e;
+    sc_.ground_mu = s.ground_mu;
+    sc_.n_sdf = n_sdf_;
+    sc_.sdf = n_sdf_ > 0 ? sdf_grids_.data() : nullptr;
+    sc_.sdf_material = n_sdf_ > 0 ? sdf_material_.data() : nullptr;
+    sc_.large = large_.data();
+    sc_.n_large = n_large_;
+    sc_.relaxation = options.relaxation;
+    fx_ = s.fx;
+    body_.pos = pos_.data(); body_.rot = rot_.data(); body_.aabb = aabb_.data(); body_.half = half_.data();
+    body_.inert = inert_.data(); body_.vel = vel_[0].data(); body_.ang = ang_[0].data(); body_.flags = flags_.data();
+    body_.sleep_counter = sleep_counter_.data(); body_.sleep_frame = sleep_frame_.data();
+    be_.sync();
+  }
+
+  void download(HostState& out) override {
+    const auto n = static_cast<std::size_t>(n_);
+    out.pos.resize(n); out.rot.resize(n); out.vel.resize(n); out.ang.resize(n);
+    out.flags.resize(n); out.sleep_frame.resize(n);
+    be_.download(out.pos.data(), pos_.data(), n);
+    be_.download(out.rot.data(), rot_.data(), n);
+    be_.download(out.vel.data(), vel_[0].data(), n);
+    be_.download(out.ang.data(), ang_[0].data(), n);
+    be_.download(out.flags.data(), flags_.data(), n);
+    be_.download(out.sleep_frame.data(), sleep_frame_.data(), n);
+    be_.sync();
+  }
+
+  void step() override;
+
+ private:
+  struct Grid {
+    Buf<unsigned> keys[2];
+    Buf<int> vals[2];
+    Buf<int> start, end;
+    Buf<CellEntry> ent_c;
+    Buf<F4> ent_p, ent_a;
+    Buf<Bounds> bounds, reduced;
+    Buf<GridParams> gp;
+    bool present = false;
+    bool dense = false;
+    unsigned cells = 0;
+    GridView view() {
+      GridView v;
+      if (!present) return v;
+      v.start = start.data(); v.end = end.data(); v.ent_c = ent_c.data(); v.ent_p = ent_p.data();
+      v.ent_a = ent_a.data(); v.gp = gp.data(); v.present = true;
+      return v;
+    }
+  };
+
+  // Builds a grid over n entries: list[0..n) when list is given, else every
+  // body (frozen members keyed, others sorted last). g.bounds must hold each
+  // entry's Bounds. One synchronisation: the table's size.
+  void build_grid(Grid& g, const int* list, int n, int members) {
+    unsigned hash_table = 64;
+    while (hash_table < 2u * static_cast<unsigned>(members)) hash_table <<= 1;
+    const long long dense_limit = 8LL * members + 4096;
+    const auto un = static_cast<std::size_t>(n);
+    for (int b = 0; b < 2; ++b) { g.keys[b].resize(un); g.vals[b].resize(un); }
+    g.ent_p.resize(un); g.ent_a.resize(un); g.ent_c.resize(un);
+    g.reduced.resize(1); g.gp.resize(1);
+    be_.reduce_bounds(g.bounds.data(), n, g.reduced.data());
+    be_.for_n(1, GridParamsK{g.reduced.data(), sc_.P.contact_tolerance, dense_limit, hash_table, g.gp.data()});
+    GridParams gp;
+    be_.download(&gp, g.gp.data(), 1);
+    be_.sync();
+    int bits = 1;
+    while (bits < 32 && (1ull << bits) <= gp.table) ++bits;  // the keys and the sentinel `table`
+    g.start.resize(gp.table);
+    g.end.resize(gp.table);
+    be_.for_n(n, GridKeysK{list, body_, large_flag_.data(), g.gp.data(), g.keys[0].data(), g.vals[0].data()});
+    const int r = be_.sort_pairs(g.keys[0].data(), g.vals[0].data(), g.keys[1].data(), g.vals[1].data(), n, bits);
+    be_.fill_int(g.start.data(), -1, gp.table);
+    be_.for_n(n, CellTableK{g.keys[r].data(), g.vals[r].data(), n, body_, g.gp.data(), g.start.data(),
+                            g.end.data(), g.ent_c.data(), g.ent_p.data(), g.ent_a.data()});
+    g.present = true;
+    g.dense = gp.dense != 0;
+    g.cells = gp.table;
+  }
+
+  // Host copy of a device int (the backend synchronises).
+  int read_int(const int* p) {
+    int v = 0;
+    be_.download(&v, p, 1);
+    be_.sync();
+    return v;
+  }
+
+  B be_;
+  GpuOptions opt_;
+  Effects fx_;
+  SceneConsts sc_;
+  BodyArrays body_;
+  Buf<F4> pos_, rot_, aabb_, half_, inert_, vel_[3], ang_[3];
+  Buf<std::uint8_t> flags_, large_flag_;
+  Buf<int> sleep_counter_, sleep_frame_, large_;
+  Buf<SdfGrid<float>> sdf_grids_;
+  Buf<float> sdf_values_;
+  Buf<F4> sdf_material_;
+  int n_sdf_ = 0, n_large_ = 0, n_static_ = 0, n_static_small_ = 0;
+  Buf<int> list_[2];  // list_[cur_]: awake bodies, then (during a frame) woken ones
+  int cur_ = 0;
+  Buf<int> woken_, woken_tmp_, wake_flag_;
+  // Double-buffered by frame parity: this frame's contacts and last frame's (warm start, eq 96).
+  Buf<int> nbr_[2], count_[2], slot_of_[2], stamp_[2];
+  int stride_[2] = {16, 16};  // neighbour-list block per slot
+  Buf<F4> pair_a_[2], pair_b_[2], imm_a_[2], imm_b_[2];
+  Buf<Counter> dir_count_;
+  Buf<F4> sdf_c0_, sdf_c1_, support_n_;
+  Buf<int> support_idx_;
+  Buf<F4> settle_[2];
+  Buf<F4> p_tmp_, q_tmp_;
+  Buf<int> keep_, keep_scan_;
+  Grid awake_grid_, frozen_grid_;
+  Buf<Counter> ctr_;
+  Buf<int> scal_;  // [0]: woken count, [1]: error (4 i + code, or INT_MAX), [2]: longest neighbour list
+  bool frozen_dirty_ = true;
+};
+
+template <class B>
+void Pipeline<B>::step() {
+  ++frame_;
+  be_.begin_frame();
+  const int n_awake = n_awake_;
+  int* active = list_[cur_].data();
+  const bool contacts = fx_.contacts && n_ >= 2;
+
+  // 1: velocity integration.
+  be_.mark(kStageIntegrate);
+  if (n_awake > 0 && (fx_.gravity || fx_.damping || contacts)) {
+    awake_grid_.bounds.resize(static_cast<std::size_t>(n_awake));
+    be_.for_n(n_awake, IntegrateVelocityK{active, body_, sc_, contacts ? awake_grid_.bounds.data() : nullptr});
+  }
+  if (fx_.gravity) counters_.integrate_velocity += static_cast<std::uint64_t>(n_awake);
+  if (fx_.damping) counters_.damping += static_cast<std::uint64_t>(n_awake);
+
+  // 2: grids. The awake grid each frame; the frozen grid (sleeping and small
+  // static bodies, which do not move) only when that set has changed.
+  const int n_frozen = n_static_small_ + (n_ - n_static_ - n_awake);
+  be_.mark(kStageBroadphase);
+  awake_grid_.present = false;
+  if (contacts && n_awake > 0) {
+    build_grid(awake_grid_, active, n_awake, n_awake);
+    counters_.broadphase_bodies += static_cast<std::uint64_t>(n_awake);
+  }
+  be_.mark(kStageFrozenGrid);
+  if (!contacts || n_frozen == 0) {
+    frozen_grid_.present = false;
+  } else if (frozen_dirty_ && n_awake > 0) {  // with no awake body nothing looks it up
+    frozen_grid_.bounds.resize(static_cast<std::size_t>(n_));
+    be_.for_n(n_, FrozenBoundsK{body_, large_flag_.data(), frozen_grid_.bounds.data()});
+    build_grid(frozen_grid_, nullptr, n_, n_frozen);
+    counters_.broadphase_bodies += static_cast<std::uint64_t>(n_frozen);
+    frozen_dirty_ = false;
+  }
+
+  // 2-4: neighbour lists and the wake (81); the woken bodies' lists.
+  const int par = frame_ & 1, pp = par ^ 1;
+  be_.mark(kStagePairs);
+  int n_active = n_awake;
+  int& stride = stride_[par];
+  count_[par].resize(static_cast<std::size_t>(n_) + 1);
+  auto lists = [&] {
+    nbr_[par].resize(static_cast<std::size_t>(n_active) * static_cast<std::size_t>(stride) + 1);
+    return NeighbourLists{nbr_[par].data(), count_[par].data(), stride};
+  };
+  // Gathers the lists of slots [0, n_awake) and [n_awake, n_active), the
+  // first time with the work counted and the wakes decided.
+  auto gather = [&](bool first, bool awake_part, bool woken_part) {
+    const NeighbourLists l = lists();
+    if (awake_part)
+      be_.for_n(n_awake, GatherK{active, 0, body_, sc_, awake_grid_.view(), frozen_grid_.view(), false, first, l,
+                                 scal_.data() + 2, wake_flag_.data(), woken_.data(), scal_.data(), ctr_.data()});
+    if (woken_part)
+      be_.for_n(n_active - n_awake, GatherK{active + n_awake, n_awake, body_, sc_, awake_grid_.view(),
+                                            frozen_grid_.view(), true, first, l, scal_.data() + 2, wake_flag_.data(),
+                                            woken_.data(), scal_.data(), ctr_.data()});
+  };
+  // The largest list found (when above the stride): the blocks grow and all
+  // lists are gathered again.
+  auto fits = [&](int most) {
+    if (most <= stride) return true;
+    while (stride < most) stride *= 2;
+    return false;
+  };
+  if (contacts && n_awake > 0) {
+    be_.fill_int(scal_.data(), 0, 3);  // woken count, (error), longest list
+    gather(true, true, false);
+    int found[3] = {0, 0, 0};  // one synchronisation: woken count and longest list
+    be_.download(found, scal_.data(), 3);
+    be_.sync();
+    const int n_woken = found[0];
+    if (!fits(found[2])) gather(false, true, false);
+    if (n_woken > 0) {
+      be_.sort_ints(woken_.data(), woken_tmp_.data(), n_woken);
+      be_.for_n(n_woken, WakeApplyK{woken_.data(), body_, wake_flag_.data(), active, n_awake});
+      n_active = n_awake + n_woken;
+      gather(true, false, true);
+      if (!fits(read_int(scal_.data() + 2))) gather(false, true, true);
+      counters_.wakes += static_cast<std::uint64_t>(n_woken);
+      frozen_dirty_ = true;
+    }
+  } else if (n_awake > 0) {
+    be_.fill_int(count_[par].data(), 0, static_cast<std::size_t>(n_awake));
+  }
+  const NeighbourLists nl = lists();
+
+  // 3: sorted neighbour lists, ground and SDF contacts, supports.
+  be_.mark(kStageContacts);
+  const auto entries = static_cast<std::size_t>(n_active) * static_cast<std::size_t>(stride) + 1;
+  pair_a_[par].resize(entries);
+  pair_b_[par].resize(entries);
+  const auto imm = static_cast<std::size_t>(n_active) * static_cast<std::size_t>(sc_.imm_stride()) + 1;
+  imm_a_[par].resize(imm);
+  imm_b_[par].resize(imm);
+  if (n_active > 0)
+    be_.for_n(n_active, ContactsK{active, frame_, body_, sc_, nl, sdf_c0_.data(), sdf_c1_.data(), support_idx_.data(),
+                                  support_n_.data(), dir_count_.data(),
+                                  ContactIndex{slot_of_[par].data(), stamp_[par].data()}, ctr_.data()});
+
+  // 5: solver: preparation and warm start into buffer 1, then the iterations
+  // alternate between buffers 1 and 2.
+  be_.mark(kStageSolve);
+  const int iterations = sc_.P.solver_iterations;
+  int last = 1;
+  if (n_active > 0) {
+    const SolverData d{active, body_, sc_, nl, dir_count_.data(), sdf_c0_.data(), sdf_c1_.data(),
+                       imm_a_[par].data(), imm_b_[par].data(), pair_a_[par].data(), pair_b_[par].data()};
+    const PreviousContacts prev{frame_ - 1, slot_of_[pp].data(), stamp_[pp].data(),
+                                NeighbourLists{nbr_[pp].data(), count_[pp].data(), stride_[pp]}, imm_a_[pp].data(),
+                                pair_a_[pp].data()};
+    be_.for_n(n_active, PrepareK{d, prev, vel_[1].data(), ang_[1].data(), ctr_.data()});
+    for (int it = 0; it < iterations; ++it) {
+      const int in = it % 2 == 0 ? 1 : 2, out = 3 - in;
+      be_.for_n(n_active, SolveK{d, vel_[in].data(), ang_[in].data(), vel_[out].data(), ang_[out].data(), ctr_.data()});
+      last = out;
+    }
+  }
+
+  // 6: settling sweeps.
+  be_.mark(kStageSettle);
+  if (fx_.settling && n_active > 0) {
+    const int sweeps = std::max(1, opt_.settle_passes);
+    const F4* sin = vel_[last].data();
+    for (int s = 0; s < sweeps; ++s) {
+      F4* sout = s + 1 < sweeps ? settle_[s % 2].data() : nullptr;
+      be_.for_n(n_active, SettleK{active, body_, sc_, support_idx_.data(), support_n_.data(), vel_[last].data(),
+                                  ang_[last].data(), sin, sout, ctr_.data()});
+      sin = sout;
+    }
+  }
+
+  // 7-8: position correction and integration.
+  be_.mark(kStageCorrect);
+  const int vsrc = (fx_.settling || n_active == 0) ? 0 : last;
+  if (n_active > 0) {
+    be_.for_n(n_active, CorrectIntegrateK{active, body_, sc_, nl, sdf_c0_.data(), sdf_c1_.data(), imm_b_[par].data(),
+                                          pair_b_[par].data(), vel_[vsrc].data(), ang_[vsrc].data(), p_tmp_.data(),
+                                          q_tmp_.data(), ctr_.data()});
+  }
+  counters_.integrate_position += static_cast<std::uint64_t>(n_active);
+
+  // 9: commit, sleep update, compaction of the awake set.
+  be_.mark(kStageSleep);
+  int error = 0x7fffffff;
+  int new_awake = 0;
+  if (n_active > 0) {
+    be_.for_n(1, SetIntK{scal_.data() + 1, error});
+    be_.for_n(n_active, CommitSleepK{active, body_, sc_, p_tmp_.data(), q_tmp_.data(), support_idx_.data(),
+                                     support_n_.data(), frame_,
+                                     keep_.data(), scal_.data() + 1, ctr_.data()});
+    be_.exclusive_scan(keep_.data(), keep_scan_.data(), n_active);
+    be_.for_n(n_active, ScatterK{active, keep_.data(), keep_scan_.data(), list_[1 - cur_].data()});
+    int host[2] = {0, 0};
+    be_.download(&host[0], keep_scan_.data() + n_active, 1);
+    be_.download(&host[1], scal_.data() + 1, 1);
+    Counter ctr[kCounterCount];
+    be_.download(ctr, ctr_.data(), kCounterCount);
+    be_.sync();
+    new_awake = host[0];
+    error = host[1];
+    cur_ = 1 - cur_;
+    counters_.pairs_tested = ctr[kCPairsTested];
+    counters_.ground_contacts = ctr[kCGroundContacts];
+    counters_.sdf_contacts = ctr[kCSdfContacts];
+    counters_.body_contacts = ctr[kCBodyContacts];
+    counters_.solver_contacts = ctr[kCSolverContacts];
+    counters_.normal_impulses = ctr[kCNormalImpulses];
+    counters_.restitution_bounces = ctr[kCRestitutionBounces];
+    counters_.friction_steps = ctr[kCFrictionSteps];
+    counters_.corrections = ctr[kCCorrections];
+    counters_.settling_bodies = ctr[kCSettlingBodies];
+    counters_.sleep_updates = ctr[kCSleepUpdates];
+  }
+  be_.mark(kStageCount);
+  be_.end_frame(times_);
+  if (new_awake != n_active) frozen_dirty_ = true;
+  n_awake_ = new_awake;
+  if (error != 0x7fffffff) {
+    static const char* const kWhat[] = {"position", "velocity", "angular velocity", "orientation"};
+    throw RunError(frame_, error / 4, kWhat[error % 4], "not finite (NaN or infinity)");
+  }
+}
+
+}  // namespace lockstep::gpu

@@ -1,0 +1,53 @@
+// What GpuWorld needs of a pipeline, whichever backend runs it.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "initial_state.hpp"
+#include "lockstep/gpu/gpu_engine.hpp"
+#include "lockstep/gpu/soa.hpp"
+
+namespace lockstep::gpu {
+
+// The state as World<float> would hold it, downloaded on demand.
+struct HostState {
+  std::vector<F4> pos, rot, vel, ang;
+  std::vector<std::uint8_t> flags;
+  std::vector<int> sleep_frame;
+};
+
+class PipelineBase {
+ public:
+  virtual ~PipelineBase() = default;
+  virtual void step() = 0;
+  virtual void download(HostState& out) = 0;
+
+  int frame() const { return frame_; }
+  int body_count() const { return n_; }
+  int awake_count() const { return n_awake_; }
+  bool on_device() const { return on_device_; }
+  const std::string& description() const { return description_; }
+  const StageCounters& counters() const { return counters_; }
+  StageTimes stage_times() const { return times_; }
+  void reset_stage_times() { times_ = StageTimes{}; }
+
+ protected:
+  int n_ = 0;
+  int frame_ = 0;
+  int n_awake_ = 0;
+  bool on_device_ = false;
+  std::string description_;
+  StageCounters counters_;
+  StageTimes times_;
+};
+
+std::unique_ptr<PipelineBase> make_host_pipeline(const InitialState& s, const GpuOptions& options,
+                                                 const std::string& description);
+// Defined only when built with CUDA.
+std::unique_ptr<PipelineBase> make_device_pipeline(const InitialState& s, const GpuOptions& options);
+// Number of CUDA devices (0 when built without CUDA or when none is usable).
+int cuda_device_count();
+
+}  // namespace lockstep::gpu

@@ -1,0 +1,1005 @@
+// The GPU engine's kernels, one functor per kernel: operator()(k) is the work
+// of thread k. The device backend launches them as CUDA kernels; the host
+// build calls them in a loop over k. Each thread owns one element (a body, a
+// sorted grid entry) and writes only that element's outputs, reading its
+// neighbours' values from buffers that no thread of the same kernel writes;
+// the only atomics are integer ones whose order cannot change a result
+// (counters, the wake flag and woken list, the longest neighbour list, the
+// lowest failing body index).
+#pragma once
+#include <cstdint>
+
+#include "lockstep/gpu/elements.hpp"
+#include "lockstep/gpu/soa.hpp"
+
+namespace lockstep::gpu {
+
+// ---------------------------------------------------------------------------
+// Host/device primitives.
+
+using Counter = unsigned long long;
+
+// Counters in the order of StageCounters' fields.
+enum CounterId : int {
+  kCIntegrateVelocity = 0, kCDamping, kCIntegratePosition, kCBroadphaseBodies, kCPairsTested, kCGroundContacts,
+  kCSdfContacts, kCBodyContacts, kCSolverContacts, kCNormalImpulses, kCRestitutionBounces, kCFrictionSteps,
+  kCCorrections, kCSettlingBodies, kCSleepUpdates, kCWakes, kCounterCount
+};
+
+// Adds v to a counter: a warp-aggregated integer atomic on the device (integer
+// sums do not depend on order), a plain add in the host build.
+LS_HD inline void add_counter(Counter* c, unsigned v) {
+#if defined(__CUDA_ARCH__)
+  const unsigned mask = __activemask();
+  const unsigned sum = __reduce_add_sync(mask, v);
+  if (static_cast<int>(threadIdx.x & 31u) == __ffs(static_cast<int>(mask)) - 1 && sum != 0u)
+    atomicAdd(c, static_cast<Counter>(sum));
+#else
+  *c += v;
+#endif
+}
+
+// Sets *flag to 1; true for the one caller that found it 0.
+LS_HD inline bool claim_flag(int* flag) {
+#if defined(__CUDA_ARCH__)
+  return atomicExch(flag, 1) == 0;
+#else
+  if (*flag != 0) return false;
+  *flag = 1;
+  return true;
+#endif
+}
+
+LS_HD inline int fetch_add(int* counter, int v) {
+#if defined(__CUDA_ARCH__)
+  return atomicAdd(counter, v);
+#else
+  const int old = *counter;
+  *counter += v;
+  return old;
+#endif
+}
+
+LS_HD inline void store_max(int* target, int v) {
+#if defined(__CUDA_ARCH__)
+  atomicMax(target, v);
+#else
+  if (v > *target) *target = v;
+#endif
+}
+
+LS_HD inline void store_min(int* target, int v) {
+#if defined(__CUDA_ARCH__)
+  atomicMin(target, v);
+#else
+  if (v < *target) *target = v;
+#endif
+}
+
+// ---------------------------------------------------------------------------
+// Grids. Each member body is filed under the cell of its centre; entries are
+// sorted by cell key and a table gives each occupied cell its range [start,
+// end) of sorted entries (start = -1: empty). The key is the cell's linear
+// index in the box of cells that holds the members (x, then y, then z
+// fastest: "dense"), so that the cells along z are consecutive keys and a
+// row of them one contiguous range of entries; when that box has more than
+// a few cells per member (a sparse scene), the key is a hash of the cell
+// instead and each cell is looked up on its own (hash collisions are
+// filtered by the entries' cell coordinates).
+
+// What a grid needs to know of its members: the largest AABB half extent
+// and the box of their centres. Reduced with min and max, which are exact,
+// so the result does not depend on the order of the reduction.
+struct Bounds {
+  float amax = 0.0f;
+  float lo[3] = {3.0e38f, 3.0e38f, 3.0e38f};
+  float hi[3] = {-3.0e38f, -3.0e38f, -3.0e38f};
+};
+struct BoundsOp {
+  LS_HD Bounds operator()(const Bounds& a, const Bounds& b) const {
+    Bounds r;
+    r.amax = Num<float>::max(a.amax, b.amax);
+    for (int k = 0; k < 3; ++k) {
+      r.lo[k] = Num<float>::min(a.lo[k], b.lo[k]);
+      r.hi[k] = Num<float>::max(a.hi[k], b.hi[k]);
+    }
+    return r;
+  }
+};
+LS_HD inline Bounds bounds_of(const F4& p, const F4& aabb) {
+  Bounds b;
+  b.amax = aabb.w;
+  b.lo[0] = b.hi[0] = p.x;
+  b.lo[1] = b.hi[1] = p.y;
+  b.lo[2] = b.hi[2] = p.z;
+  return b;
+}
+
+struct GridParams {
+  float inv_cell = 1.0f;  // 1 / cell size (1/m)
+  float reach = 0.0f;     // largest AABB half extent of a member, plus margin (m)
+  int dense = 0;          // 1: linear cell keys; 0: hashed
+  int origin[3] = {0, 0, 0};  // dense: the box's lowest cell
+  int dims[3] = {1, 1, 1};    // dense: the box's cells per axis
+  unsigned table = 1;     // table entries: cells of the box, or the hash table's size
+};
+
+// Integer cell coordinates and body index of a sorted grid entry.
+struct alignas(16) CellEntry {
+  int x, y, z, body;
+};
+
+struct GridView {
+  const int* start = nullptr;
+  const int* end = nullptr;
+  const CellEntry* ent_c = nullptr;  // sorted entries: cell and body
+  const F4* ent_p = nullptr;         // centre
+  const F4* ent_a = nullptr;         // AABB half extents
+  const GridParams* gp = nullptr;
+  bool present = false;
+};
+
+// The grid's cells: size 2H for members whose largest AABB half extent is H
+// (a floor keeps tiny bodies from making cells tiny). A member overlaps a
+// body of half extent a (boxes grown by half the contact tolerance each, eq
+// 97) only if its centre is within a + H + tol on every axis: the reach. The
+// dense box when it has at most `dense_limit` cells, else a hash table of
+// `hash_table` entries.
+LS_HD inline GridParams grid_params_for(const Bounds& b, float tol, long long dense_limit, unsigned hash_table) {
+  const float cell = Num<float>::max(2.0f * b.amax, 1.0f / 64.0f);
+  GridParams g;
+  g.inv_cell = 1.0f / cell;
+  g.reach = (b.amax + tol) * (1.0f + 1.0f / 1024.0f) + cell / 64.0f;
+  g.table = hash_table;
+  if (!(b.lo[0] <= b.hi[0])) return g;  // no members
+  long long cells = 1;
+  for (int k = 0; k < 3; ++k) {
+    g.origin[k] = cell_coord(b.lo[k], g.inv_cell);
+    g.dims[k] = cell_coord(b.hi[k], g.inv_cell) - g.origin[k] + 1;
+    cells *= g.dims[k];
+  }
+  if (cells <= dense_limit) {
+    g.dense = 1;
+    g.table = static_cast<unsigned>(cells);
+  }
+  return g;
+}
+
+LS_HD inline unsigned grid_key(const GridParams& g, int x, int y, int z) {
+  if (g.dense)
+    return static_cast<unsigned>(((x - g.origin[0]) * g.dims[1] + (y - g.origin[1])) * g.dims[2] + (z - g.origin[2]));
+  return cell_hash(x, y, z) & (g.table - 1u);
+}
+
+// Calls fn(j, p_j, a_j) for every grid member j != self whose centre lies in a
+// cell that an overlapping body's centre can lie in: per axis, within
+// a_self + reach of p_self (plus a relative margin for rounding). Counts the
+// candidates in `tested`.
+template <class Fn>
+LS_HD void visit_candidates(const GridView& g, int self, const Vec3<float>& p, const Vec3<float>& a, unsigned& tested,
+                            Fn&& fn) {
+  if (!g.present) return;
+  const GridParams gp = *g.gp;
+  int lo[3], hi[3];
+  for (int ax = 0; ax < 3; ++ax) {
+    const float r = a[ax] + gp.reach + Num<float>::abs(p[ax]) * (1.0f / 524288.0f);
+    lo[ax] = cell_coord(p[ax] - r, gp.inv_cell);
+    hi[ax] = cell_coord(p[ax] + r, gp.inv_cell);
+  }
+  if (gp.dense) {
+    for (int ax = 0; ax < 3; ++ax) {  // to the box's cells
+      lo[ax] = lo[ax] < gp.origin[ax] ? 0 : lo[ax] - gp.origin[ax];
+      hi[ax] = hi[ax] - gp.origin[ax] >= gp.dims[ax] ? gp.dims[ax] - 1 : hi[ax] - gp.origin[ax];
+    }
+    for (int x = lo[0]; x <= hi[0]; ++x)
+      for (int y = lo[1]; y <= hi[1]; ++y) {
+        const int row = (x * gp.dims[1] + y) * gp.dims[2];
+        int s = -1, e = -1;
+        for (int z = lo[2]; z <= hi[2]; ++z) {  // consecutive cells: one range of entries
+          const int cs = g.start[row + z];
+          if (cs < 0) continue;
+          if (s < 0) s = cs;
+          e = g.end[row + z];
+        }
+        for (int t = s; t < e; ++t) {
+          const int j = g.ent_c[t].body;
+          if (j == self) continue;
+          ++tested;
+          fn(j, xyz(g.ent_p[t]), xyz(g.ent_a[t]));
+        }
+      }
+    return;
+  }
+  for (int x = lo[0]; x <= hi[0]; ++x)
+    for (int y = lo[1]; y <= hi[1]; ++y)
+      for (int z = lo[2]; z <= hi[2]; ++z) {
+        const unsigned h = grid_key(gp, x, y, z);
+        const int s = g.start[h];
+        if (s < 0) continue;
+        const int e = g.end[h];
+        for (int t = s; t < e; ++t) {
+          const CellEntry c = g.ent_c[t];
+          if (c.x != x || c.y != y || c.z != z) continue;  // another cell with the same hash
+          if (c.body == self) continue;
+          ++tested;
+          fn(c.body, xyz(g.ent_p[t]), xyz(g.ent_a[t]));
+        }
+      }
+}
+
+// Scene-wide values the kernels need.
+struct SceneConsts {
+  Params<float> P{};
+  float half_tol = 0;  // contact_tolerance / 2 (eq 97)
+  bool gravity = false, damping = false, friction = false, restitution = false, sleep = false;
+  bool ground_on = false;
+  float ground_y = 0, ground_e = 0, ground_mu = 0;
+  int n_sdf = 0;
+  const SdfGrid<float>* sdf = nullptr;
+  const F4* sdf_material = nullptr;  // x: e, y: mu
+  const int* large = nullptr;        // large static bodies, ascending
+  int n_large = 0;
+  float relaxation = 1.0f;
+  // Contacts with immovable things per active body: 8 ground corners (when
+  // ground_on), then 9 samples per SDF volume.
+  LS_HD int ground_slots() const { return ground_on ? 8 : 0; }
+  LS_HD int imm_stride() const { return ground_slots() + 9 * n_sdf; }
+};
+
+// The body-body contact between self and j as World<T> computes it: body 1
+// (a) is the lower index.
+LS_HD inline PairContact<float> canonical_pair(const SceneConsts& sc, int self, const Vec3<float>& p,
+                                               const Vec3<float>& a, int j, const Vec3<float>& pj,
+                                               const Vec3<float>& aj) {
+  const float tol = sc.P.contact_tolerance;
+  return self < j ? pair_contact(p, a, pj, aj, sc.half_tol, tol) : pair_contact(pj, aj, p, a, sc.half_tol, tol);
+}
+
+// Per-contact solver state in two F4s: {j_n, j_t} and {v_n0, e, mu, k_n}.
+LS_HD inline ContactState<float> load_state(const F4& a, const F4& b) {
+  ContactState<float> c;
+  c.j_n = a.x;
+  c.j_t = {a.y, a.z, a.w};
+  c.v_n0 = b.x;
+  c.e = b.y;
+  c.mu = b.z;
+  c.k_n = b.w;
+  return c;
+}
+LS_HD inline void store_state(const ContactState<float>& c, F4& a, F4& b) {
+  a = {c.j_n, c.j_t.x, c.j_t.y, c.j_t.z};
+  b = {c.v_n0, c.e, c.mu, c.k_n};
+}
+
+// ---------------------------------------------------------------------------
+// Stage 1: velocity integration of the awake bodies; also gathers what the
+// awake grid needs of each (Bounds).
+struct IntegrateVelocityK {
+  const int* list;
+  BodyArrays b;
+  SceneConsts sc;
+  Bounds* bounds;  // per slot, or null
+  LS_HD void operator()(int k) const {
+    const int i = list[k];
+    if (sc.gravity || sc.damping) {
+      Vec3<float> v = xyz(b.vel[i]), w = xyz(b.ang[i]);
+      integrate_velocity(v, w, sc.gravity, sc.damping, sc.P);
+      b.vel[i] = f4(v, 0.0f);
+      b.ang[i] = f4(w, 0.0f);
+    }
+    if (bounds != nullptr) bounds[k] = bounds_of(b.pos[i], b.aabb[i]);
+  }
+};
+
+// The frozen grid's members (not awake, not large): their Bounds; others
+// the reduction's identity.
+struct FrozenBoundsK {
+  BodyArrays b;
+  const std::uint8_t* large_flag;
+  Bounds* bounds;
+  LS_HD void operator()(int i) const {
+    const bool member = !is_awake(b.flags[i]) && large_flag[i] == 0;
+    bounds[i] = member ? bounds_of(b.pos[i], b.aabb[i]) : Bounds{};
+  }
+};
+
+struct GridParamsK {
+  const Bounds* reduced;
+  float tol;
+  long long dense_limit;
+  unsigned hash_table;
+  GridParams* out;
+  LS_HD void operator()(int) const { *out = grid_params_for(*reduced, tol, dense_limit, hash_table); }
+};
+
+// Keys for a grid: the cell's key. With `list` the members are list[0..n);
+// without, every body i is a member when frozen (not awake and not large),
+// and others get the key `table` (sorted last).
+struct GridKeysK {
+  const int* list;
+  BodyArrays b;
+  const std::uint8_t* large_flag;
+  const GridParams* gp;
+  unsigned* keys;
+  int* vals;
+  LS_HD void operator()(int k) const {
+    const int i = list != nullptr ? list[k] : k;
+    vals[k] = i;
+    const GridParams g = *gp;
+    if (list == nullptr && (is_awake(b.flags[i]) || large_flag[i] != 0)) { keys[k] = g.table; return; }
+    const F4 p = b.pos[i];
+    keys[k] = grid_key(g, cell_coord(p.x, g.inv_cell), cell_coord(p.y, g.inv_cell), cell_coord(p.z, g.inv_cell));
+  }
+};
+
+// After the sort: the table ranges and the entries in sorted order.
+struct CellTableK {
+  const unsigned* keys;
+  const int* vals;
+  int n;
+  BodyArrays b;
+  const GridParams* gp;
+  int* start;
+  int* end;
+  CellEntry* ent_c;
+  F4* ent_p;
+  F4* ent_a;
+  LS_HD void operator()(int s) const {
+    const unsigned key = keys[s];
+    if (key == gp->table) return;  // not a member
+    const int i = vals[s];
+    const F4 p = b.pos[i];
+    const float inv = gp->inv_cell;
+    ent_c[s] = CellEntry{cell_coord(p.x, inv), cell_coord(p.y, inv), cell_coord(p.z, inv), i};
+    ent_p[s] = p;
+    ent_a[s] = b.aabb[i];
+    if (s == 0 || keys[s - 1] != key) start[key] = s;
+    if (s == n - 1 || keys[s + 1] != key) end[key] = s + 1;
+  }
+};
+
+// ---------------------------------------------------------------------------
+// Neighbour lists: each active body's list is the block [k stride, k stride +
+// count[k]) of the frame's list array (slot k), ascending by body index once
+// ContactsK has sorted it.
+struct NeighbourLists {
+  int* nbr = nullptr;
+  int* count = nullptr;
+  int stride = 0;
+  LS_HD int begin(int k) const { return k * stride; }
+  LS_HD int end(int k) const { return k * stride + count[k]; }
+};
+
+// Stages 2-4: each active body gathers the bodies whose (grown) AABB overlaps
+// its own, up to `stride` of them (the count goes on: the host enlarges the
+// blocks and gathers again when one overflows), and wakes (eq 81) sleeping
+// ones that it touches fast or deeply. Awake bodies look in the awake grid,
+// the frozen grid and the large statics; woken bodies (`woken_pass`) only in
+// the awake grid: World<T> pairs only bodies of which one was awake at the
+// broadphase. `count_work` is off when gathering again.
+struct GatherK {
+  const int* list;
+  int slot0;  // slot of list[0]
+  BodyArrays b;
+  SceneConsts sc;
+  GridView awake_grid, frozen_grid;
+  bool woken_pass, count_work;
+  NeighbourLists lists;
+  int* max_count;
+  int* wake_flag;
+  int* woken;
+  int* n_woken;
+  Counter* ctr;
+  LS_HD void operator()(int k) const {
+    const int i = list[k];
+    const int slot = slot0 + k;
+    const Vec3<float> p = xyz(b.pos[i]), a = xyz(b.aabb[i]);
+    int* out = lists.nbr + slot * lists.stride;
+    unsigned tested = 0, contacts = 0;
+    int m = 0;
+    visit_candidates(awake_grid, i, p, a, tested, [&](int j, const Vec3<float>& pj, const Vec3<float>& aj) {
+      if (!canonical_pair(sc, i, p, a, j, pj, aj).hit) return;
+      if (m < lists.stride) out[m] = j;
+      ++m;
+      if (!woken_pass && i < j) ++contacts;
+    });
+    if (!woken_pass) {
+      auto other = [&](int j, const Vec3<float>& pj, const Vec3<float>& aj) {
+        const PairContact<float> c = canonical_pair(sc, i, p, a, j, pj, aj);
+        if (!c.hit) return;
+        if (m < lists.stride) out[m] = j;
+        ++m;
+        ++contacts;
+        if (count_work && sc.sleep && (b.flags[j] & kFlagAsleep) != 0) {
+          const bool i_is_a = i < j;
+          const Vec3<float> vi = xyz(b.vel[i]), vj = xyz(b.vel[j]);
+          if (wake_test(i_is_a ? vi : vj, !i_is_a, i_is_a ? vj : vi, i_is_a, c.n, c.penetration, sc.P) &&
+              claim_flag(&wake_flag[j]))
+            woken[fetch_add(n_woken, 1)] = j;
+        }
+      };
+      visit_candidates(frozen_grid, i, p, a, tested, other);
+      for (int t = 0; t < sc.n_large; ++t) {
+        const int j = sc.large[t];
+        ++tested;
+        other(j, xyz(b.pos[j]), xyz(b.aabb[j]));
+      }
+    }
+    lists.count[slot] = m < lists.stride ? m : lists.stride;
+    if (m > lists.stride) store_max(max_count, m);
+    if (count_work) {
+      add_counter(&ctr[kCPairsTested], tested);
+      add_counter(&ctr[kCBodyContacts], contacts);
+    }
+  }
+};
+
+// Woken bodies join the active set after the awake ones (slots n_awake..).
+struct WakeApplyK {
+  const int* woken;
+  BodyArrays b;
+  int* wake_flag;
+  int* active;
+  int n_awake;
+  LS_HD void operator()(int k) const {
+    const int i = woken[k];
+    b.flags[i] = static_cast<std::uint8_t>(b.flags[i] & ~kFlagAsleep);
+    b.sleep_counter[i] = 0;
+    wake_flag[i] = 0;
+    active[n_awake + k] = i;
+  }
+};
+
+// Which of the six axis directions a body-body contact normal (eqs 41-42,
+// +-1 on one axis) points along: 2 axis + (negative).
+LS_HD inline int direction_of(const Vec3<float>& n) {
+  for (int axis = 0; axis < 3; ++axis)
+    if (n[axis] != 0.0f) return 2 * axis + (n[axis] < 0.0f ? 1 : 0);
+  return 0;
+}
+
+// Mass splitting of the Jacobi solver: a body's contacts with other active
+// bodies are counted per normal direction (one byte each of dir_count); a
+// contact's effective mass is scaled by the larger of its two bodies' counts
+// in its direction (n towards body i), over the relaxation. Contacts pushing a
+// body the same way share it; opposite ones (a body in a stack) do not.
+LS_HD inline float jacobi_split(Counter counts_i, Counter counts_j, const Vec3<float>& n_towards_i, float relaxation) {
+  const int d = direction_of(n_towards_i);
+  const unsigned mine = static_cast<unsigned>((counts_i >> (8 * d)) & 255u);
+  const unsigned theirs = static_cast<unsigned>((counts_j >> (8 * (d ^ 1))) & 255u);
+  return Num<float>::from_int(static_cast<int>(mine > theirs ? mine : theirs)) / relaxation;
+}
+
+// Support contact of a body (settling eq 75, sleep eq 78).
+inline constexpr int kNoSupport = -1;
+inline constexpr int kStaticSupport = -2;  // ground or SDF volume: v_s = 0
+
+// Where this frame's contacts of body i are, for next frame's warm start (eq
+// 96): its slot, written with the frame number (double-buffered by frame parity).
+struct ContactIndex {
+  int* slot_of;  // per body
+  int* stamp;    // per body: frame at which slot_of was written
+};
+
+// Stage 3: each active body sorts its neighbour list (ascending index),
+// computes its SDF sample contacts and its support: the touching contacts
+// whose normal towards it is within acos(support_normal_min) of up, taken in
+// World<T>'s contact order (ground corners, SDF samples, bodies by index);
+// the first is the support, the normalised sum of their normals the support
+// normal (98). Also counts its contacts with other active bodies per normal
+// direction (for the Jacobi mass splitting).
+struct ContactsK {
+  const int* list;
+  int frame;
+  BodyArrays b;
+  SceneConsts sc;
+  NeighbourLists lists;
+  F4* sdf_c0;  // per slot, volume and sample: n, penetration
+  F4* sdf_c1;  // contact point, hit (1/0)
+  int* support_idx;
+  F4* support_n;
+  Counter* dir_count;
+  ContactIndex index;
+  Counter* ctr;
+  LS_HD void operator()(int k) const {
+    const int i = list[k];
+    const Vec3<float> p = xyz(b.pos[i]), a = xyz(b.aabb[i]);
+    int* nbr = lists.nbr;
+    const int beg = lists.begin(k), m = lists.count[k];
+    for (int s = 1; s < m; ++s) {  // insertion sort: ascending body index
+      const int x = nbr[beg + s];
+      int t = s - 1;
+      while (t >= 0 && nbr[beg + t] > x) { nbr[beg + t + 1] = nbr[beg + t]; --t; }
+      nbr[beg + t + 1] = x;
+    }
+    index.slot_of[i] = k;
+    index.stamp[i] = frame;
+    const Mat3<float> R = rotation_matrix(quat(b.rot[i]));
+    const Vec3<float> h = xyz(b.half[i]);
+    const Vec3<float> up{0.0f, 1.0f, 0.0f};
+    // Support contacts: touching to within slop with a normal towards the
+    // body within acos(support_normal_min) of up; the support normal is the
+    // normalised sum of their normals, the support the first of them.
+    int support = kNoSupport;
+    Vec3<float> support_sum{};
+    auto add_support = [&](int who, const Vec3<float>& n) {
+      if (support == kNoSupport) support = who;
+      support_sum += n;
+    };
+    const float tol = sc.P.contact_tolerance, min_up = sc.P.support_normal_min, slop = sc.P.slop;
+    unsigned ground_contacts = 0, sdf_contacts = 0;
+    if (sc.ground_on) {
+      for (int c = 0; c < 8; ++c) {
+        Vec3<float> corner;
+        const float depth = ground_corner_depth(p, R, h, c, sc.ground_y, corner);
+        if (!(depth > -tol)) continue;
+        ++ground_contacts;
+        if (depth > -slop && up.y >= min_up) add_support(kStaticSupport, up);
+      }
+    }
+    for (int v = 0; v < sc.n_sdf; ++v) {
+      for (int s = 0; s < 9; ++s) {
+        const SdfContact<float> c = sdf_sample_contact(p, R, h, sc.sdf[v], s, tol);
+        const int e = (k * sc.n_sdf + v) * 9 + s;
+        sdf_c0[e] = f4(c.n, c.penetration);
+        sdf_c1[e] = f4(c.point, c.hit ? 1.0f : 0.0f);
+        if (!c.hit) continue;
+        ++sdf_contacts;
+        if (c.penetration > -slop && c.n.y >= min_up) add_support(kStaticSupport, c.n);
+      }
+    }
+    Counter directions = 0;
+    for (int t = 0; t < m; ++t) {
+      const int j = nbr[beg + t];
+      const PairContact<float> c = canonical_pair(sc, i, p, a, j, xyz(b.pos[j]), xyz(b.aabb[j]));
+      const Vec3<float> n = i < j ? c.n : -c.n;
+      const int shift = 8 * direction_of(n);
+      if (is_awake(b.flags[j]) && ((directions >> shift) & 255u) < 255u) directions += Counter{1} << shift;
+      if (!(c.penetration > -slop)) continue;
+      if (n.y >= min_up) add_support(j, n);
+    }
+    dir_count[i] = directions;
+    const Vec3<float> support_normal = support != kNoSupport ? normalize(support_sum) : Vec3<float>{};
+    support_idx[i] = support;
+    support_n[i] = f4(support_normal, 0.0f);
+    add_counter(&ctr[kCGroundContacts], ground_contacts);
+    add_counter(&ctr[kCSdfContacts], sdf_contacts);
+  }
+};
+
+// The contact-side view of body j (dynamic when awake, else immovable).
+LS_HD inline BodyView<float> view_of(const BodyArrays& b, int j, const F4* vel, const F4* ang) {
+  if (!is_awake(b.flags[j])) return immovable_view<float>();
+  const F4 pj = b.pos[j];
+  return dynamic_view(xyz(vel[j]), xyz(ang[j]), pj.w, rotation_matrix(quat(b.rot[j])), xyz(b.inert[j]));
+}
+
+// Everything the solver kernels share.
+struct SolverData {
+  const int* list;
+  BodyArrays b;
+  SceneConsts sc;
+  NeighbourLists lists;
+  const Counter* dir_count;
+  const F4* sdf_c0;
+  const F4* sdf_c1;
+  F4* imm_a;  // immovable contacts' state, imm_stride() per slot
+  F4* imm_b;
+  F4* pair_a;  // body-body contacts' state, one per neighbour-list entry (each body keeps its own copy)
+  F4* pair_b;
+};
+
+// Last frame's contacts, for the warm start (eq 96): the accumulated normal
+// impulse is the x of each contact's first state F4.
+struct PreviousContacts {
+  int frame;  // the previous frame's number
+  const int* slot_of;
+  const int* stamp;
+  NeighbourLists lists;
+  const F4* imm_a;
+  const F4* pair_a;
+  LS_HD bool had(int i) const { return stamp[i] == frame; }
+  // The accumulated impulses of pair (i, j), from the lower body's copy when
+  // it was active last frame, else the higher's (both copies are equal when
+  // both were); j_n = 0 when there is none.
+  LS_HD F4 pair(int i, int j) const {
+    int owner = i < j ? i : j, other = i < j ? j : i;
+    if (!had(owner)) { const int t = owner; owner = other; other = t; }
+    if (!had(owner)) return F4{};
+    const int slot = slot_of[owner];
+    const int end = lists.end(slot);
+    int lo = lists.begin(slot), hi = end;
+    while (lo < hi) {  // binary search in the ascending list
+      const int mid = lo + (hi - lo) / 2;
+      if (lists.nbr[mid] < other) lo = mid + 1;
+      else hi = mid;
+    }
+    return (lo < end && lists.nbr[lo] == other) ? pair_a[lo] : F4{};
+  }
+};
+
+// Stage 5, first kernel: the solver's preparation of every contact of the
+// body (eqs 48-50, 58, 76, 86) with the velocities before the warm start,
+// then the warm start (eq 96) of its own velocity, in World<T>'s contact
+// order. Reads b.vel/b.ang, writes vout/wout.
+struct PrepareK {
+  SolverData d;
+  PreviousContacts prev;
+  F4* vout;
+  F4* wout;
+  Counter* ctr;
+  LS_HD void operator()(int k) const {
+    const BodyArrays& b = d.b;
+    const SceneConsts& sc = d.sc;
+    const int i = d.list[k];
+    const F4 pi4 = b.pos[i], h4 = b.half[i], in4 = b.inert[i];
+    const Vec3<float> p = xyz(pi4), a = xyz(b.aabb[i]), h = xyz(h4);
+    const Mat3<float> R = rotation_matrix(quat(b.rot[i]));
+    const Vec3<float> v0 = xyz(b.vel[i]), w0 = xyz(b.ang[i]);
+    const BodyView<float> self0 = dynamic_view(v0, w0, pi4.w, R, xyz(in4));
+    BodyView<float> self = self0;  // warm-started velocity
+    const float e_self = h4.w, mu_self = in4.w, tol = sc.P.contact_tolerance;
+    const bool had = prev.had(i);
+    const int prev_slot = had ? prev.slot_of[i] : 0;
+    const int stride = sc.imm_stride();
+    SolveCounts counts;
+    const Vec3<float> zero{};
+    const Vec3<float> up{0.0f, Num<float>::from_int(1), 0.0f};
+    auto immovable = [&](int e, const Vec3<float>& r1, const Vec3<float>& n, float e2, float mu2) {
+      BodyView<float> B = immovable_view<float>();
+      ContactState<float> c = prepare_contact(self0, r1, B, zero, n, e_self, mu_self, e2, mu2, sc.restitution,
+                                              sc.friction, sc.P, counts);
+      const F4 cached = had ? prev.imm_a[prev_slot * stride + e] : F4{};
+      if (cached.x > 0.0f) warm_start_contact(self, r1, B, zero, n, c, cached.x);
+      store_state(c, d.imm_a[k * stride + e], d.imm_b[k * stride + e]);
+    };
+    auto none = [&](int e) { d.imm_a[k * stride + e] = F4{}; d.imm_b[k * stride + e] = F4{}; };
+    if (sc.ground_on) {
+      for (int c = 0; c < 8; ++c) {
+        Vec3<float> corner;
+        if (ground_corner_depth(p, R, h, c, sc.ground_y, corner) > -tol) immovable(c, corner - p, up, sc.ground_e, sc.ground_mu);
+        else none(c);
+      }
+    }
+    for (int v = 0; v < sc.n_sdf; ++v) {
+      const F4 mat = sc.sdf_material[v];
+      for (int s = 0; s < 9; ++s) {
+        const int g = (k * sc.n_sdf + v) * 9 + s;
+        const int e = sc.ground_slots() + 9 * v + s;
+        const F4 c1 = d.sdf_c1[g];
+        if (c1.w != 0.0f) immovable(e, xyz(c1) - p, xyz(d.sdf_c0[g]), mat.x, mat.y);
+        else none(e);
+      }
+    }
+    const int beg = d.lists.begin(k), end = d.lists.end(k);
+    for (int t = beg; t < end; ++t) {
+      const int j = d.lists.nbr[t];
+      const F4 pj4 = b.pos[j];
+      const Vec3<float> pj = xyz(pj4);
+      const bool lower = i < j;
+      const PairContact<float> pc = canonical_pair(sc, i, p, a, j, pj, xyz(b.aabb[j]));
+      const BodyView<float> other0 = view_of(b, j, b.vel, b.ang);
+      const Vec3<float> r1 = pc.point - (lower ? p : pj), r2 = pc.point - (lower ? pj : p);
+      const float e_o = b.half[j].w, mu_o = b.inert[j].w;
+      // Body 1 is the lower index; the branches keep the views in registers.
+      SolveCounts here;
+      ContactState<float> c =
+          lower ? prepare_contact(self0, r1, other0, r2, pc.n, e_self, mu_self, e_o, mu_o, sc.restitution, sc.friction, sc.P, here)
+                : prepare_contact(other0, r1, self0, r2, pc.n, e_o, mu_o, e_self, mu_self, sc.restitution, sc.friction, sc.P, here);
+      if (lower || other0.inv_mass == 0.0f) counts.restitution_bounces += here.restitution_bounces;
+      const F4 cached = prev.pair(i, j);
+      if (cached.x > 0.0f) {
+        BodyView<float> other = other0;
+        if (lower) warm_start_contact(self, r1, other, r2, pc.n, c, cached.x);
+        else warm_start_contact(other, r1, self, r2, pc.n, c, cached.x);
+      }
+      store_state(c, d.pair_a[t], d.pair_b[t]);
+    }
+    vout[i] = f4(self.v, 0.0f);
+    wout[i] = f4(self.w, 0.0f);
+    add_counter(&ctr[kCRestitutionBounces], counts.restitution_bounces);
+  }
+};
+
+// Stage 5, one iteration for every active body (docs/GPU.md "Contact
+// resolution"). Contacts with immovable things (the ground and SDF manifolds
+// of eq 99, sleeping and static bodies) are visited one after the other on
+// the body's own velocity, as World<T> visits them. Contacts with other
+// active bodies are Jacobi: both bodies visit the contact, each against the
+// velocities at the start of the iteration (vin/win), so both compute the
+// same impulse and keep equal copies of its accumulated state; each adds its
+// own velocity change, and the effective masses are scaled by the larger
+// of the two bodies' contact counts in the contact's direction (mass
+// splitting) over the relaxation.
+struct SolveK {
+  SolverData d;
+  const F4* vin;
+  const F4* win;
+  F4* vout;
+  F4* wout;
+  Counter* ctr;
+  LS_HD void operator()(int k) const {
+    const BodyArrays& b = d.b;
+    const SceneConsts& sc = d.sc;
+    const int i = d.list[k];
+    const F4 pi4 = b.pos[i], h4 = b.half[i];
+    const Vec3<float> p = xyz(pi4), a = xyz(b.aabb[i]), h = xyz(h4);
+    const Mat3<float> R = rotation_matrix(quat(b.rot[i]));
+    const Vec3<float> I = xyz(b.inert[i]);
+    const Vec3<float> v0 = xyz(vin[i]), w0 = xyz(win[i]);
+    BodyView<float> self = dynamic_view(v0, w0, pi4.w, R, I);
+    const float tol = sc.P.contact_tolerance;
+    const int stride = sc.imm_stride();
+    SolveCounts counts;
+    const Vec3<float> up{0.0f, Num<float>::from_int(1), 0.0f};
+    // Ground corners and each SDF volume's samples: manifolds (eq 99); the
+    // points' state is read and written where it lives.
+    BodyView<float> env = immovable_view<float>();
+    auto loader = [&](int base) {
+      return [&, base](int e) { return load_state(d.imm_a[k * stride + base + e], d.imm_b[k * stride + base + e]); };
+    };
+    auto storer = [&](int base) {
+      return [&, base](int e, const ContactState<float>& c) {
+        d.imm_a[k * stride + base + e] = F4{c.j_n, c.j_t.x, c.j_t.y, c.j_t.z};
+      };
+    };
+    if (sc.ground_on) {
+      auto corner_point = [&](int c, Vec3<float>& r1, Vec3<float>& n, float& penetration) {
+        Vec3<float> corner;
+        penetration = ground_corner_depth(p, R, h, c, sc.ground_y, corner);
+        r1 = corner - p;
+        n = up;
+        return penetration > -tol;
+      };
+      solve_manifold<8>(self, env, corner_point, loader(0), storer(0), sc.friction, sc.gravity, sc.P, counts);
+    }
+    for (int v = 0; v < sc.n_sdf; ++v) {
+      const int base = sc.ground_slots() + 9 * v;
+      auto sample = [&](int s, Vec3<float>& r1, Vec3<float>& n, float& penetration) {
+        const int g = (k * sc.n_sdf + v) * 9 + s;
+        const F4 c1 = d.sdf_c1[g], c0 = d.sdf_c0[g];
+        r1 = xyz(c1) - p;
+        n = xyz(c0);
+        penetration = c0.w;
+        return c1.w != 0.0f;
+      };
+      solve_manifold<9>(self, env, sample, loader(base), storer(base), sc.friction, sc.gravity, sc.P, counts);
+    }
+    Vec3<float> dv{}, dw{};
+    const int beg = d.lists.begin(k), end = d.lists.end(k);
+    for (int t = beg; t < end; ++t) {
+      const int j = d.lists.nbr[t];
+      const F4 pj4 = b.pos[j];
+      const Vec3<float> pj = xyz(pj4);
+      const bool lower = i < j;
+      const PairContact<float> pc = canonical_pair(sc, i, p, a, j, pj, xyz(b.aabb[j]));
+      const Vec3<float> r1 = pc.point - (lower ? p : pj), r2 = pc.point - (lower ? pj : p);
+      ContactState<float> c = load_state(d.pair_a[t], d.pair_b[t]);
+      // Body 1 is the lower index; the branches keep the views in registers.
+      if (!is_awake(b.flags[j])) {  // immovable: sequential on the body's own velocity
+        BodyView<float> other = immovable_view<float>();
+        if (lower) solve_contact(self, r1, other, r2, pc.n, pc.penetration, c, sc.friction, sc.gravity, 1.0f, sc.P, counts);
+        else solve_contact(other, r1, self, r2, pc.n, pc.penetration, c, sc.friction, sc.gravity, 1.0f, sc.P, counts);
+      } else {  // Jacobi
+        BodyView<float> me = dynamic_view(v0, w0, pi4.w, R, I);
+        BodyView<float> other = view_of(b, j, vin, win);
+        const float split = jacobi_split(d.dir_count[i], d.dir_count[j], lower ? pc.n : -pc.n, sc.relaxation);
+        SolveCounts here;
+        if (lower) solve_contact(me, r1, other, r2, pc.n, pc.penetration, c, sc.friction, sc.gravity, split, sc.P, here);
+        else solve_contact(other, r1, me, r2, pc.n, pc.penetration, c, sc.friction, sc.gravity, split, sc.P, here);
+        if (lower) {
+          counts.solver_contacts += here.solver_contacts;
+          counts.normal_impulses += here.normal_impulses;
+          counts.friction_steps += here.friction_steps;
+        }
+        dv += me.v - v0;
+        dw += me.w - w0;
+      }
+      d.pair_a[t] = F4{c.j_n, c.j_t.x, c.j_t.y, c.j_t.z};
+    }
+    vout[i] = f4(self.v + dv, 0.0f);
+    wout[i] = f4(self.w + dw, 0.0f);
+    add_counter(&ctr[kCSolverContacts], counts.solver_contacts);
+    add_counter(&ctr[kCNormalImpulses], counts.normal_impulses);
+    add_counter(&ctr[kCFrictionSteps], counts.friction_steps);
+  }
+};
+
+// ---------------------------------------------------------------------------
+// Stage 6: one settling sweep. World<T> settles supported bodies lowest first
+// (height, then index), so eq 75 sees a lower support's settled velocity and
+// a higher one's unsettled velocity. Sweep k reads the supports' values of
+// sweep k-1 (sin; sweep 0 reads the solver's result) and writes sout; after
+// as many sweeps as the longest chain of supports, the result is World<T>'s.
+// The last sweep also settles the angular velocity and writes the state.
+struct SettleK {
+  const int* list;
+  BodyArrays b;
+  SceneConsts sc;
+  const int* support_idx;
+  const F4* support_n;
+  const F4* vpost;  // solver result
+  const F4* wpost;
+  const F4* sin;
+  F4* sout;  // null on the last sweep
+  Counter* ctr;
+  LS_HD void operator()(int k) const {
+    const int i = list[k];
+    const int s = support_idx[i];
+    const bool last = sout == nullptr;
+    if (s == kNoSupport) {
+      if (last) { b.vel[i] = vpost[i]; b.ang[i] = wpost[i]; }
+      return;
+    }
+    Vec3<float> v = xyz(vpost[i]);
+    Vec3<float> v_s{};
+    if (s >= 0 && is_awake(b.flags[s])) {
+      const float ys = b.pos[s].y, yi = b.pos[i].y;
+      const bool lower = ys < yi || (ys == yi && s < i);
+      v_s = (lower && support_idx[s] != kNoSupport) ? xyz(sin[s]) : xyz(vpost[s]);
+    }
+    const Vec3<float> n = xyz(support_n[i]);
+    const float speed = settle_linear_velocity(v, v_s, n, sc.P);  // eqs 75, 77
+    if (!last) { sout[i] = f4(v, 0.0f); return; }
+    const Mat3<float> R = rotation_matrix(quat(b.rot[i]));
+    b.vel[i] = f4(v, 0.0f);
+    b.ang[i] = f4(settle_angular_velocity(xyz(wpost[i]), R, n, speed, sc.P), 0.0f);  // eqs 64-74
+    add_counter(&ctr[kCSettlingBodies], 1u);
+  }
+};
+
+// ---------------------------------------------------------------------------
+// Stages 7-8: position correction (eqs 63, 89) from the contacts of the frame
+// (measured at the start-of-frame positions), then integration (eqs 2, 7-10).
+// Results go to per-slot buffers, committed by the next kernel, since other
+// threads read the start-of-frame positions.
+struct CorrectIntegrateK {
+  const int* list;
+  BodyArrays b;
+  SceneConsts sc;
+  NeighbourLists lists;
+  const F4* sdf_c0;
+  const F4* sdf_c1;
+  const F4* imm_b;   // the contacts' solver state: y is e_eff (eq 76); a bouncing contact is not corrected
+  const F4* pair_b;
+  const F4* vfinal;  // final velocities (b.vel, or the solver's buffer when settling is off)
+  const F4* wfinal;
+  F4* p_out;
+  F4* q_out;
+  Counter* ctr;
+  LS_HD void operator()(int k) const {
+    const int i = list[k];
+    const F4 pi4 = b.pos[i];
+    const Vec3<float> p0 = xyz(pi4), a = xyz(b.aabb[i]);
+    const float inv_self = pi4.w;
+    Vec3<float> p = p0, dummy{};
+    const Quat<float> q0 = quat(b.rot[i]);
+    unsigned corrections = 0;
+    const float slop = sc.P.slop, percent = sc.P.baumgarte, tol = sc.P.contact_tolerance;
+    if (sc.ground_on) {  // the deepest corner (first on ties) carries the correction
+      const Mat3<float> R = rotation_matrix(q0);
+      const Vec3<float> h = xyz(b.half[i]);
+      int deepest = -1;
+      float deepest_depth = 0.0f;
+      for (int c = 0; c < 8; ++c) {
+        Vec3<float> corner;
+        const float depth = ground_corner_depth(p0, R, h, c, sc.ground_y, corner);
+        if (!(depth > -tol)) continue;
+        if (deepest < 0 || depth > deepest_depth) { deepest = c; deepest_depth = depth; }
+      }
+      if (deepest >= 0 && !(imm_b[k * sc.imm_stride() + deepest].y > 0.0f) && inv_self != 0.0f) {
+        const Vec3<float> up{0.0f, Num<float>::from_int(1), 0.0f};
+        baumgarte_correction(p, dummy, up, deepest_depth, inv_self, 0.0f, slop, percent);
+        ++corrections;
+      }
+    }
+    for (int v = 0; v < sc.n_sdf; ++v) {  // per volume, the deepest sample
+      int deepest = -1, deepest_s = 0;
+      for (int s = 0; s < 9; ++s) {
+        const int g = (k * sc.n_sdf + v) * 9 + s;
+        if (sdf_c1[g].w == 0.0f) continue;
+        if (deepest < 0 || sdf_c0[g].w > sdf_c0[deepest].w) { deepest = g; deepest_s = s; }
+      }
+      if (deepest < 0 || imm_b[k * sc.imm_stride() + sc.ground_slots() + 9 * v + deepest_s].y > 0.0f ||
+          inv_self == 0.0f)
+        continue;
+      const F4 c0 = sdf_c0[deepest];
+      baumgarte_correction(p, dummy, xyz(c0), c0.w, inv_self, 0.0f, slop, percent);
+      ++corrections;
+    }
+    const int beg = lists.begin(k), end = lists.end(k);
+    for (int t = beg; t < end; ++t) {
+      const int j = lists.nbr[t];
+      const F4 pj4 = b.pos[j];
+      const bool j_awake = is_awake(b.flags[j]);
+      const float inv_j = j_awake ? pj4.w : 0.0f;
+      const bool lower = i < j;
+      const PairContact<float> c = canonical_pair(sc, i, p0, a, j, xyz(pj4), xyz(b.aabb[j]));
+      const float inv_a = lower ? inv_self : inv_j, inv_b = lower ? inv_j : inv_self;
+      if (pair_b[t].y > 0.0f || (inv_a == 0.0f && inv_b == 0.0f)) continue;
+      if (lower) baumgarte_correction(p, dummy, c.n, c.penetration, inv_a, inv_b, slop, percent);
+      else baumgarte_correction(dummy, p, c.n, c.penetration, inv_a, inv_b, slop, percent);
+      if (lower || !j_awake) ++corrections;
+    }
+    if (vfinal != b.vel) { b.vel[i] = vfinal[i]; b.ang[i] = wfinal[i]; }
+    Quat<float> q = q0;
+    integrate_pose(p, q, xyz(vfinal[i]), xyz(wfinal[i]), sc.P);  // eqs 2, 7-10
+    p_out[k] = f4(p, inv_self);
+    q_out[k] = f4(q);
+    add_counter(&ctr[kCCorrections], corrections);
+  }
+};
+
+// Error codes of the finite check (World<T>::check_finite's order).
+inline constexpr int kErrPosition = 0, kErrVelocity = 1, kErrAngular = 2, kErrOrientation = 3;
+
+// Stage 8 commit and stage 9: new pose, derived AABB (eq 31), sleep update
+// (eqs 78-80); keep[k] = 1 for a body still awake. A non-finite awake body
+// records 4 i + code in *error (the lowest wins, as World<T> reports the
+// lowest index).
+struct CommitSleepK {
+  const int* list;
+  BodyArrays b;
+  SceneConsts sc;
+  const F4* p_in;
+  const F4* q_in;
+  const int* support_idx;
+  const F4* support_n;
+  int frame;
+  int* keep;
+  int* error;
+  Counter* ctr;
+  LS_HD void operator()(int k) const {
+    const int i = list[k];
+    const F4 p4 = p_in[k];
+    const Quat<float> q = quat(q_in[k]);
+    b.pos[i] = p4;
+    b.rot[i] = q_in[k];
+    const Mat3<float> R = rotation_matrix(q);
+    const Vec3<float> a = rotated_half_extents(R, xyz(b.half[i]));  // eq 31
+    b.aabb[i] = f4(a, Num<float>::max(a.x, Num<float>::max(a.y, a.z)));
+    Vec3<float> v = xyz(b.vel[i]), w = xyz(b.ang[i]);
+    bool asleep = false;
+    if (sc.sleep) {
+      int counter = b.sleep_counter[i];
+      const bool supported = support_idx[i] != kNoSupport;
+      const Vec3<float> up = supported ? xyz(support_n[i]) : Vec3<float>{0.0f, Num<float>::from_int(1), 0.0f};
+      asleep = update_sleep(v, w, counter, supported, R, up, sc.P);
+      b.sleep_counter[i] = counter;
+      b.vel[i] = f4(v, 0.0f);
+      b.ang[i] = f4(w, 0.0f);
+      if (asleep) {
+        b.flags[i] = static_cast<std::uint8_t>(b.flags[i] | kFlagAsleep);
+        b.sleep_frame[i] = frame;
+      }
+    }
+    keep[k] = asleep ? 0 : 1;
+    if (!asleep) {
+      auto fin = [](const Vec3<float>& x) { return Num<float>::finite(x.x) && Num<float>::finite(x.y) && Num<float>::finite(x.z); };
+      const int code = !fin(xyz(p4)) ? kErrPosition : !fin(v) ? kErrVelocity : !fin(w) ? kErrAngular
+                     : !(Num<float>::finite(q.w) && Num<float>::finite(q.x) && Num<float>::finite(q.y) && Num<float>::finite(q.z)) ? kErrOrientation
+                     : -1;
+      if (code >= 0) store_min(error, 4 * i + code);
+    }
+    if (sc.sleep) add_counter(&ctr[kCSleepUpdates], 1u);
+  }
+};
+
+struct SetIntK {
+  int* target;
+  int value;
+  LS_HD void operator()(int) const { *target = value; }
+};
+
+// Stream compaction: out[scan[k]] = in[k] where keep[k].
+struct ScatterK {
+  const int* in;
+  const int* keep;
+  const int* scan;
+  int* out;
+  LS_HD void operator()(int k) const {
+    if (keep[k] != 0) out[scan[k]] = in[k];
+  }
+};
+
+}  // namespace lockstep::gpu

@@ -1,0 +1,237 @@
+// gpu_bench: the GPU engine's time per step on the settling pile (docs/GPU.md
+// "Performance"), awake and asleep, with the per-stage breakdown (CUDA events
+// on the device), the device's copy bandwidth, and the fixed and double CPU
+// engines on the same scenes. Prints a table and writes JSON (--json F).
+//
+//   gpu_bench [--sizes 10000,100000,1000000,10000000] [--cpu-sizes 10000]
+//             [--sleep-size 1000000] [--sleep-frames 1500] [--backend auto|host]
+//             [--json out.json] [--profile N]
+// --profile N: only runs the awake pile of N cubes for 41 frames and
+// captures frame 41 for `ncu --profile-from-start off` (docs/GPU.md).
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "lockstep/gpu/gpu_engine.hpp"
+#include "scene_helpers.hpp"
+
+namespace {
+
+using lockstep::Scene;
+using lockstep::gpu::GpuWorld;
+using Clock = std::chrono::steady_clock;
+
+constexpr int kColumn = 4;        // cubes per column of the pile
+constexpr double kJitter = 0.01;  // turn of each cube (about radians per axis)
+constexpr int kWarmFrames = 40;   // frames before timing: the columns have landed and are toppling
+constexpr int kTimedFrames = 20;  // frames timed by wall clock, then as many with stage timing
+
+// The pile; `awake_only` turns sleep off so that every cube stays awake
+// (the awake measurements), `asleep` builds it resting and asleep.
+Scene gpu_test_pile(long n, bool asleep, bool awake_only = false) {
+  Scene s = lockstep::gpu_test::settling_pile(static_cast<int>(n), kColumn, asleep, kJitter);
+  if (awake_only) s.effects.sleep = false;
+  return s;
+}
+
+std::vector<long> parse_list(const std::string& s) {
+  std::vector<long> out;
+  std::stringstream ss(s);
+  std::string item;
+  while (std::getline(ss, item, ','))
+    if (!item.empty()) out.push_back(std::atol(item.c_str()));
+  return out;
+}
+
+struct Timing {
+  double ms_per_step = 0.0;  // median over the timed frames
+  double mean_ms = 0.0;
+  std::vector<double> stage_ms;  // per frame, by stage
+  int awake = 0;
+};
+
+template <class StepFn>
+std::vector<double> time_frames(int frames, StepFn&& step) {
+  std::vector<double> ms;
+  for (int f = 0; f < frames; ++f) {
+    const auto t0 = Clock::now();
+    step();
+    ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+  }
+  return ms;
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0.0 : v[v.size() / 2];
+}
+double mean(const std::vector<double>& v) {
+  double s = 0.0;
+  for (double x : v) s += x;
+  return v.empty() ? 0.0 : s / static_cast<double>(v.size());
+}
+
+Timing time_gpu(const Scene& s, lockstep::gpu::Backend backend, int warm) {
+  lockstep::gpu::GpuOptions o;
+  o.backend = backend;
+  o.stage_timing = true;
+  GpuWorld g(s, o);
+  for (int f = 0; f < warm; ++f) g.step();
+  Timing t;
+  // Wall clock per step (a step ends when the device has finished it), with
+  // the stage events recorded (about a microsecond each); then the stages'
+  // times of the next frames.
+  const std::vector<double> ms = time_frames(kTimedFrames, [&] { g.step(); });
+  t.ms_per_step = median(ms);
+  t.mean_ms = mean(ms);
+  t.stage_ms.assign(lockstep::gpu::kStageCount, 0.0);
+  g.reset_stage_times();
+  for (int f = 0; f < kTimedFrames; ++f) g.step();
+  const lockstep::gpu::StageTimes st2 = g.stage_times();
+  for (int k = 0; k < lockstep::gpu::kStageCount; ++k)
+    t.stage_ms[static_cast<std::size_t>(k)] = st2.frames ? st2.ms[static_cast<std::size_t>(k)] / st2.frames : 0.0;
+  t.awake = g.awake_count();
+  return t;
+}
+
+template <class T>
+Timing time_cpu(const Scene& s, int warm, int frames) {
+  lockstep::World<T> e(s);
+  for (int f = 0; f < warm; ++f) e.step();
+  Timing t;
+  const std::vector<double> ms = time_frames(frames, [&] { e.step(); });
+  t.ms_per_step = median(ms);
+  t.mean_ms = mean(ms);
+  t.awake = e.awake_count();
+  return t;
+}
+
+Timing time_cpu(const Scene& s, const std::string& engine, int warm, int frames) {
+  return engine == "fixed" ? time_cpu<lockstep::Q16>(s, warm, frames) : time_cpu<double>(s, warm, frames);
+}
+
+std::string json_row(const char* engine, const char* state, long n, const Timing& t) {
+  std::ostringstream o;
+  o << "{\"engine\":\"" << engine << "\",\"state\":\"" << state << "\",\"bodies\":" << n
+    << ",\"ms_per_step\":" << t.ms_per_step << ",\"mean_ms\":" << t.mean_ms
+    << ",\"body_steps_per_s\":" << (t.ms_per_step > 0 ? static_cast<double>(n) / (t.ms_per_step * 1e-3) : 0.0)
+    << ",\"awake\":" << t.awake;
+  if (!t.stage_ms.empty()) {
+    o << ",\"stages_ms\":{";
+    for (int k = 0; k < lockstep::gpu::kStageCount; ++k)
+      o << (k ? "," : "") << "\"" << lockstep::gpu::stage_name(k) << "\":" << t.stage_ms[static_cast<std::size_t>(k)];
+    o << "}";
+  }
+  o << "}";
+  return o.str();
+}
+
+void print_row(const char* engine, const char* state, long n, const Timing& t) {
+  std::printf("%-8s %-7s %9ld %10.3f %12.3e %9d", engine, state, n, t.ms_per_step,
+              t.ms_per_step > 0 ? static_cast<double>(n) / (t.ms_per_step * 1e-3) : 0.0, t.awake);
+  for (double ms : t.stage_ms) std::printf(" %7.3f", ms);
+  std::printf("\n");
+  std::fflush(stdout);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<long> sizes{10000, 100000, 1000000, 10000000}, cpu_sizes{10000};
+  long sleep_size = 1000000;
+  int sleep_frames = 1500;
+  std::string json_path, backend_name = "auto";
+  long profile = 0;
+  for (int a = 1; a + 1 < argc; a += 2) {
+    const std::string k = argv[a], v = argv[a + 1];
+    if (k == "--sizes") sizes = parse_list(v);
+    else if (k == "--cpu-sizes") cpu_sizes = parse_list(v);
+    else if (k == "--sleep-size") sleep_size = std::atol(v.c_str());
+    else if (k == "--sleep-frames") sleep_frames = std::atoi(v.c_str());
+    else if (k == "--json") json_path = v;
+    else if (k == "--backend") backend_name = v;
+    else if (k == "--profile") profile = std::atol(v.c_str());
+    else { std::fprintf(stderr, "gpu_bench: unknown option %s\n", k.c_str()); return 2; }
+  }
+  const auto backend = backend_name == "host" ? lockstep::gpu::Backend::kHost : lockstep::gpu::Backend::kAuto;
+  if (profile > 0) {
+    lockstep::gpu::GpuOptions o;
+    o.backend = backend;
+    GpuWorld g(gpu_test_pile(profile, false, true), o);
+    for (int f = 0; f < kWarmFrames; ++f) g.step();
+    lockstep::gpu::profiler_capture(true);
+    g.step();
+    lockstep::gpu::profiler_capture(false);
+    std::printf("profiled frame %d of the %ld-cube pile (%d awake)\n", g.frame(), profile, g.awake_count());
+    return 0;
+  }
+  const lockstep::gpu::DeviceInfo dev = lockstep::gpu::device_info();
+  const double copy_gbs = lockstep::gpu::measure_copy_bandwidth(std::size_t{1} << 30, 20);
+  std::printf("device: %s (%d SMs, %.1f GiB); copy bandwidth %.1f GB/s (read + write)\n",
+              dev.name.empty() ? "none (host build)" : dev.name.c_str(), dev.multiprocessors, dev.memory_gib, copy_gbs);
+  std::printf("scene: settling pile, columns of %d unit cubes 0.2 m apart, turned by up to %.2f; awake: sleep off,"
+              " timed frames %d..%d; asleep: built resting and asleep\n",
+              kColumn, kJitter, kWarmFrames + 1, kWarmFrames + kTimedFrames);
+  std::printf("%-8s %-7s %9s %10s %12s %9s", "engine", "state", "bodies", "ms/step", "body-steps/s", "awake");
+  for (int k = 0; k < lockstep::gpu::kStageCount; ++k) std::printf(" %7.7s", lockstep::gpu::stage_name(k));
+  std::printf("\n");
+  std::vector<std::string> rows;
+  for (long n : sizes) {
+    const Timing awake = time_gpu(gpu_test_pile(n, false, true), backend, kWarmFrames);
+    print_row("gpu", "awake", n, awake);
+    rows.push_back(json_row("gpu", "awake", n, awake));
+    const Timing asleep = time_gpu(gpu_test_pile(n, true), backend, 2);
+    print_row("gpu", "asleep", n, asleep);
+    rows.push_back(json_row("gpu", "asleep", n, asleep));
+  }
+  for (long n : cpu_sizes) {
+    for (const char* engine : {"fixed", "double"}) {
+      const Timing awake = time_cpu(gpu_test_pile(n, false, true), engine, kWarmFrames, kTimedFrames / 2);
+      print_row(engine, "awake", n, awake);
+      rows.push_back(json_row(engine, "awake", n, awake));
+      const Timing asleep = time_cpu(gpu_test_pile(n, true), engine, 2, kTimedFrames / 2);
+      print_row(engine, "asleep", n, asleep);
+      rows.push_back(json_row(engine, "asleep", n, asleep));
+    }
+  }
+  // The awake pile run until it falls asleep (or sleep_frames): awake count
+  // and time per step along the way.
+  std::vector<std::string> sleep_rows;
+  if (sleep_size > 0) {
+    lockstep::gpu::GpuOptions o;
+    o.backend = backend;
+    GpuWorld g(gpu_test_pile(sleep_size, false), o);
+    std::printf("settling run, %ld cubes: frame, awake, ms/step (mean of the last 50 frames)\n", sleep_size);
+    double window = 0.0;
+    for (int f = 1; f <= sleep_frames; ++f) {
+      const auto t0 = Clock::now();
+      g.step();
+      window += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+      if (f % 50 == 0 || g.awake_count() == 0) {
+        std::printf("  %5d %9d %9.3f\n", f, g.awake_count(), window / (f % 50 == 0 ? 50 : f % 50));
+        std::ostringstream r;
+        r << "{\"frame\":" << f << ",\"awake\":" << g.awake_count() << ",\"ms_per_step\":" << window / (f % 50 == 0 ? 50 : f % 50) << "}";
+        sleep_rows.push_back(r.str());
+        window = 0.0;
+        if (g.awake_count() == 0) break;
+      }
+    }
+    std::fflush(stdout);
+  }
+  if (!json_path.empty()) {
+    std::ofstream out(json_path);
+    out << "{\"device\":\"" << dev.name << "\",\"multiprocessors\":" << dev.multiprocessors
+        << ",\"copy_bandwidth_gbs\":" << copy_gbs << ",\"column\":" << kColumn << ",\"jitter\":" << kJitter << ",\"warm_frames\":" << kWarmFrames
+        << ",\"timed_frames\":" << kTimedFrames << ",\"rows\":[";
+    for (std::size_t k = 0; k < rows.size(); ++k) out << (k ? ",\n" : "\n") << rows[k];
+    out << "],\"settling_run\":[";
+    for (std::size_t k = 0; k < sleep_rows.size(); ++k) out << (k ? ",\n" : "\n") << sleep_rows[k];
+    out << "]}\n";
+  }
+  return 0;
+}

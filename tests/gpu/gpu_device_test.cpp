@@ -1,0 +1,129 @@
+// The GPU engine on a CUDA device (label gpu; skipped, with a message, where
+// there is none): the device build gives the host build's bits, run to run
+// and scene by scene, and the kernels' formulas give the host's results.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <random>
+#include <vector>
+
+#include "lockstep/gpu/formula_cases.hpp"
+#include "scene_helpers.hpp"
+
+namespace lockstep {
+namespace {
+
+using gpu::GpuWorld;
+
+#define LOCKSTEP_REQUIRE_DEVICE()                                  \
+  do {                                                             \
+    if (!gpu::cuda_device_available()) GTEST_SKIP() << "no CUDA device"; \
+  } while (false)
+
+gpu::GpuOptions device_options() {
+  gpu::GpuOptions o;
+  o.backend = gpu::Backend::kDevice;
+  return o;
+}
+
+TEST(GpuDevice, RunsOnTheDevice) {
+  LOCKSTEP_REQUIRE_DEVICE();
+  GpuWorld g(gpu_test::scene("drop"), device_options());
+  EXPECT_TRUE(g.on_device());
+  EXPECT_EQ(g.description().rfind("gpu: CUDA on ", 0), 0u) << g.description();
+}
+
+// Built with --fmad=false, the device rounds every operation as the host
+// build does, and the schedule is the same: identical bits every frame.
+TEST(GpuDevice, MatchesHostBuildBitForBit) {
+  LOCKSTEP_REQUIRE_DEVICE();
+  for (const auto& [name, frames] : {std::pair<const char*, int>{"drop", 300}, {"stack5", 300}, {"pyramid", 300},
+                                     {"pile1000", 300}, {"bowl", 400}, {"terrain", 400}}) {
+    SCOPED_TRACE(name);
+    const Scene s = gpu_test::scene(name);
+    GpuWorld d(s, device_options()), h(s, gpu_test::host_options());
+    for (int f = 1; f <= frames; ++f) {
+      d.step();
+      h.step();
+      ASSERT_EQ(d.state_hash(), h.state_hash()) << "frame " << f;
+    }
+    const StageCounters a = d.counters(), b = h.counters();
+    EXPECT_EQ(a.pairs_tested, b.pairs_tested);
+    EXPECT_EQ(a.body_contacts, b.body_contacts);
+    EXPECT_EQ(a.solver_contacts, b.solver_contacts);
+    EXPECT_EQ(a.normal_impulses, b.normal_impulses);
+    EXPECT_EQ(a.wakes, b.wakes);
+    EXPECT_EQ(a.sleep_updates, b.sleep_updates);
+  }
+}
+
+// Two runs on the same GPU give identical bits (no float atomics; integer
+// atomics only where their order cannot matter).
+TEST(GpuDevice, RunToRunDeterministic) {
+  LOCKSTEP_REQUIRE_DEVICE();
+  const Scene s = gpu_test::settling_pile(50000, 10, false);
+  GpuWorld a(s, device_options()), b(s, device_options());
+  for (int f = 1; f <= 240; ++f) {
+    a.step();
+    b.step();
+    if (f % 40 == 0) {
+      ASSERT_EQ(a.state_hash(), b.state_hash()) << "frame " << f;
+    }
+  }
+  EXPECT_EQ(a.counters().normal_impulses, b.counters().normal_impulses);
+}
+
+// Formula cases: the per-equation functions the kernels call, on random
+// inputs, on the device against the host build: 0 ulps apart (IEEE + - * /
+// and sqrt are correctly rounded on both, and --fmad=false forbids
+// contraction).
+constexpr std::int64_t kMaxUlps = 0;
+
+std::int64_t ulps(float a, float b) {
+  if (std::isnan(a) && std::isnan(b)) return 0;
+  if (a == b) return 0;
+  auto ordered = [](float x) {
+    std::int32_t i;
+    std::memcpy(&i, &x, sizeof i);
+    return i < 0 ? static_cast<std::int64_t>(INT32_MIN) - i : static_cast<std::int64_t>(i);
+  };
+  return std::llabs(ordered(a) - ordered(b));
+}
+
+std::vector<float> random_cases(int kind, int n, std::mt19937& rng) {
+  std::uniform_real_distribution<float> u(-2.0f, 2.0f), pos(0.05f, 1.5f), unit(0.0f, 1.0f);
+  std::vector<float> in(static_cast<std::size_t>(n) * gpu::kFormulaInputs);
+  for (int k = 0; k < n; ++k) {
+    float* c = in.data() + static_cast<std::size_t>(k) * gpu::kFormulaInputs;
+    for (int j = 0; j < gpu::kFormulaInputs; ++j) c[j] = u(rng);
+    switch (kind) {
+      case gpu::kFormulaPair: for (int j : {3, 4, 5, 9, 10, 11}) c[j] = pos(rng); break;
+      case gpu::kFormulaSolve: c[29] = unit(rng); c[30] = unit(rng); c[31] = 0.06f * unit(rng) - 0.01f; break;
+      case gpu::kFormulaGround: for (int j : {7, 8, 9}) c[j] = pos(rng); break;
+      case gpu::kFormulaSleep: c[0] *= 0.05f; c[3] *= 0.05f; c[10] = std::floor(40.0f * unit(rng)); break;
+      case gpu::kFormulaSdf: c[0] = unit(rng); c[1] = 2.0f * unit(rng); c[2] = unit(rng); break;
+      default: break;
+    }
+  }
+  return in;
+}
+
+TEST(GpuDevice, FormulaCasesMatchHostWithinUlps) {
+  LOCKSTEP_REQUIRE_DEVICE();
+  std::mt19937 rng(20261121u);
+  for (int kind = 0; kind < gpu::kFormulaKinds; ++kind) {
+    SCOPED_TRACE(gpu::formula_kind_name(kind));
+    const std::vector<float> in = random_cases(kind, 20000, rng);
+    const std::vector<float> host = gpu::evaluate_formula_cases_on_host(kind, in);
+    const std::vector<float> dev = gpu::evaluate_formula_cases_on_device(kind, in);
+    ASSERT_EQ(host.size(), dev.size());
+    std::int64_t worst = 0;
+    for (std::size_t k = 0; k < host.size(); ++k) worst = std::max(worst, ulps(host[k], dev[k]));
+    EXPECT_LE(worst, kMaxUlps);
+  }
+}
+
+}  // namespace
+}  // namespace lockstep

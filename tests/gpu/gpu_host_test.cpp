@@ -1,0 +1,296 @@
+// The GPU engine's host build (what CI, which has no GPU, runs): the same
+// pipeline and per-element functions as the CUDA kernels, in host loops.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstring>
+#include <string>
+
+#include "scene_helpers.hpp"
+
+namespace lockstep {
+namespace {
+
+using gpu::GpuWorld;
+using gpu_test::host_options;
+using gpu_test::scene;
+
+// With no body touching another, the GPU engine's schedule changes nothing:
+// every frame of these single-body scenes (ground contacts, warm start,
+// speculative contacts, settling, sleep) is World<float>'s, bit for bit.
+TEST(GpuHost, SingleBodyScenesMatchWorldFloatBitForBit) {
+  for (const char* name : {"drop", "bounce", "slide", "tip_edge", "tip_corner"}) {
+    SCOPED_TRACE(name);
+    const Scene s = scene(name);
+    GpuWorld g(s, host_options());
+    World<float> w(s);
+    for (int f = 1; f <= s.frames; ++f) {
+      g.step();
+      w.step();
+      ASSERT_EQ(g.state_hash(), w.state_hash()) << "frame " << f;
+    }
+    const StageCounters a = g.counters(), b = w.counters();
+    EXPECT_EQ(a.ground_contacts, b.ground_contacts);
+    EXPECT_EQ(a.solver_contacts, b.solver_contacts);
+    EXPECT_EQ(a.normal_impulses, b.normal_impulses);
+    EXPECT_EQ(a.friction_steps, b.friction_steps);
+    EXPECT_EQ(a.settling_bodies, b.settling_bodies);
+    EXPECT_EQ(a.sleep_updates, b.sleep_updates);
+  }
+}
+
+// Scene agreement with the fixed engine (the bit-exact reference): resting
+// positions within 0.05 m, the same face up, the same sleep state, sleep
+// frames within 10 frames. For each of these, where the float reference
+// engine itself differs from the fixed one (a long tumble amplifies
+// rounding), the GPU engine must instead agree with the float reference.
+TEST(GpuHost, ScenesAgreeWithFixedEngine) {
+  constexpr double kPosition = 0.05;
+  constexpr int kSleepFrames = 10;
+  for (const char* name : {"drop", "bounce", "stack5", "tip_edge", "pyramid", "slide"}) {
+    SCOPED_TRACE(name);
+    const Scene s = scene(name);
+    auto g = make_gpu_engine(s);
+    World<float> flt(s);
+    World<Q16> fix(s);
+    for (int f = 0; f < s.frames; ++f) { g->step(); flt.step(); fix.step(); }
+    for (int i = 0; i < g->body_count(); ++i) {
+      SCOPED_TRACE("body " + std::to_string(i));
+      const BodySnapshot a = g->body(i), r = gpu_test::snapshot(flt, i), x = gpu_test::snapshot(fix, i);
+      // The engine to agree with: fixed, unless the float reference does not.
+      auto target = [&](bool float_agrees) -> const BodySnapshot& { return float_agrees ? x : r; };
+      EXPECT_LE(gpu_test::distance(a, target(gpu_test::distance(r, x) <= kPosition)), kPosition);
+      EXPECT_NEAR(a.p[1], target(std::abs(r.p[1] - x.p[1]) <= kPosition).p[1], kPosition) << "resting height";
+      EXPECT_EQ(gpu_test::face_up(a), gpu_test::face_up(target(gpu_test::face_up(r) == gpu_test::face_up(x))));
+      EXPECT_EQ(a.asleep, target(r.asleep == x.asleep).asleep);
+      if (a.asleep && r.asleep && x.asleep) {
+        const BodySnapshot& t = target(std::abs(r.sleep_frame - x.sleep_frame) <= kSleepFrames);
+        EXPECT_LE(std::abs(a.sleep_frame - t.sleep_frame), kSleepFrames);
+      }
+    }
+  }
+}
+
+// Two runs of the same scene give the same bits every frame (piles with
+// body-body contacts, wakes and sleep; the SDF bowl).
+TEST(GpuHost, RunToRunDeterministic) {
+  for (const auto& [name, frames] : {std::pair<const char*, int>{"pile1000", 80}, {"bowl", 300}, {"pyramid", 120}}) {
+    SCOPED_TRACE(name);
+    const Scene s = scene(name);
+    GpuWorld a(s, host_options()), b(s, host_options());
+    EXPECT_EQ(gpu_test::hashes(a, frames), gpu_test::hashes(b, frames));
+  }
+}
+
+// A stage the scene does not call for is not run: its counters stay 0,
+// while the same scene with the effect on counts work there.
+TEST(GpuHost, EffectsNotCalledForDoNotRun) {
+  auto counters = [](Scene s, int frames) {
+    GpuWorld g(s, host_options());
+    for (int f = 0; f < frames; ++f) g.step();
+    return g.counters();
+  };
+  Scene pile = gpu_test::settling_pile(64, 4, false);
+  const StageCounters on = counters(pile, 120);
+  EXPECT_GT(on.integrate_velocity, 0u);
+  EXPECT_GT(on.damping, 0u);
+  EXPECT_GT(on.pairs_tested, 0u);
+  EXPECT_GT(on.body_contacts, 0u);
+  EXPECT_GT(on.ground_contacts, 0u);
+  EXPECT_GT(on.friction_steps, 0u);
+  EXPECT_GT(on.settling_bodies, 0u);
+  EXPECT_GT(on.sleep_updates, 0u);
+
+  Scene off = pile;
+  off.effects.gravity = false;
+  off.effects.damping = false;
+  off.effects.contacts = false;
+  off.effects.friction = false;
+  off.effects.settling = false;
+  off.effects.sleep = false;
+  for (BodyDesc& b : off.bodies) b.velocity = {0.0, -3.0, 0.0};  // falls onto the ground without gravity
+  const StageCounters c = counters(off, 120);
+  EXPECT_EQ(c.integrate_velocity, 0u);
+  EXPECT_EQ(c.damping, 0u);
+  EXPECT_EQ(c.broadphase_bodies, 0u);
+  EXPECT_EQ(c.pairs_tested, 0u);
+  EXPECT_EQ(c.body_contacts, 0u);
+  EXPECT_EQ(c.friction_steps, 0u);
+  EXPECT_EQ(c.settling_bodies, 0u);
+  EXPECT_EQ(c.sleep_updates, 0u);
+  EXPECT_EQ(c.wakes, 0u);
+  EXPECT_GT(c.ground_contacts, 0u);  // still on
+  EXPECT_GT(c.normal_impulses, 0u);
+
+  Scene no_ground = pile;
+  no_ground.effects.ground = false;
+  EXPECT_EQ(counters(no_ground, 60).ground_contacts, 0u);
+
+  Scene bowl = scene("bowl");
+  EXPECT_GT(counters(bowl, 300).sdf_contacts, 0u);
+  bowl.effects.sdf = false;
+  EXPECT_EQ(counters(bowl, 300).sdf_contacts, 0u);
+}
+
+// Sleeping bodies cost close to nothing: once a pile has fallen asleep, a
+// frame integrates, grids, tests and solves nothing; a pile built asleep
+// costs nothing from the first frame.
+TEST(GpuHost, SleepingPileIsCheap) {
+  const Scene pile = gpu_test::settling_pile(48, 3, false, 0.0);  // columns that land as stacks
+  GpuWorld g(pile, host_options());
+  int frame = 0;
+  while (g.awake_count() > 0 && frame < 1500) { g.step(); ++frame; }
+  ASSERT_EQ(g.awake_count(), 0) << "the pile did not fall asleep in 1500 frames";
+  const StageCounters before = g.counters();
+  EXPECT_GT(before.integrate_position, 0u);
+  for (int f = 0; f < 50; ++f) g.step();
+  const StageCounters after = g.counters();
+  EXPECT_EQ(after.integrate_velocity, before.integrate_velocity);
+  EXPECT_EQ(after.integrate_position, before.integrate_position);
+  EXPECT_EQ(after.broadphase_bodies, before.broadphase_bodies);
+  EXPECT_EQ(after.pairs_tested, before.pairs_tested);
+  EXPECT_EQ(after.solver_contacts, before.solver_contacts);
+  EXPECT_EQ(after.sleep_updates, before.sleep_updates);
+
+  GpuWorld asleep(gpu_test::settling_pile(1000, 4, true), host_options());
+  EXPECT_EQ(asleep.awake_count(), 0);
+  for (int f = 0; f < 20; ++f) asleep.step();
+  const StageCounters c = asleep.counters();
+  EXPECT_EQ(c.integrate_position + c.pairs_tested + c.solver_contacts + c.broadphase_bodies, 0u);
+}
+
+// A cube dropped onto a sleeping stack wakes what it hits (eq 81), and the
+// woken bodies move again.
+TEST(GpuHost, DroppedCubeWakesSleepingStack) {
+  Scene s = gpu_test::settling_pile(3, 3, true);
+  BodyDesc drop;
+  drop.position = {0.0, 6.0, 0.0};
+  drop.velocity = {0.0, -4.0, 0.0};
+  s.bodies.push_back(drop);
+  GpuWorld g(s, host_options());
+  World<float> w(s);
+  for (int f = 0; f < 40; ++f) { g.step(); w.step(); }
+  EXPECT_GT(g.counters().wakes, 0u);
+  EXPECT_EQ(g.counters().wakes, w.counters().wakes);
+  EXPECT_FALSE(g.body(2).asleep);
+}
+
+// A body touching more bodies than a neighbour-list block holds (16): the
+// blocks grow and the list is gathered again, complete. Frame 1 starts from
+// the scene, so its contacts are World<float>'s exactly.
+TEST(GpuHost, LongNeighbourListsAreComplete) {
+  Scene s = scene("drop");
+  s.bodies.clear();
+  BodyDesc big;
+  big.half_extents = {2.0, 2.0, 2.0};
+  big.mass = 50.0;
+  big.position = {0.0, 2.0, 0.0};
+  s.bodies.push_back(big);
+  for (int x = 0; x < 6; ++x)
+    for (int z = 0; z < 6; ++z) {  // 36 small cubes resting on its top face
+      BodyDesc c;
+      c.half_extents = {0.25, 0.25, 0.25};
+      c.position = {-1.6 + 0.64 * x, 4.25, -1.6 + 0.64 * z};
+      s.bodies.push_back(c);
+    }
+  GpuWorld g(s, host_options());
+  World<float> w(s);
+  g.step();
+  w.step();
+  EXPECT_EQ(g.counters().body_contacts, w.counters().body_contacts);
+  EXPECT_GE(g.counters().body_contacts, 36u);
+  for (int f = 0; f < 200; ++f) g.step();
+  for (int i = 1; i < g.body_count(); ++i) EXPECT_NEAR(g.body(i).p[1], 4.25, 0.02) << "cube " << i;
+}
+
+// A scene whose bodies are far apart (a sparse box of cells) files them in a
+// hashed grid instead of the dense one; the physics does not change: a
+// pyramid with a far copy moves bit for bit as the pyramid alone.
+TEST(GpuHost, GridKindDoesNotChangeResults) {
+  const Scene alone = scene("pyramid");
+  Scene pair = alone;
+  for (const BodyDesc& b : alone.bodies) {
+    BodyDesc far = b;
+    far.position.x += 20000.0;
+    pair.bodies.push_back(far);
+  }
+  GpuWorld a(alone, host_options()), b(pair, host_options());
+  for (int f = 1; f <= 120; ++f) {
+    a.step();
+    b.step();
+    for (int i = 0; i < a.body_count(); ++i) {
+      const BodySnapshot x = a.body(i), y = b.body(i);
+      ASSERT_EQ(std::memcmp(x.p, y.p, sizeof x.p), 0) << "frame " << f << " body " << i;
+      ASSERT_EQ(std::memcmp(x.v, y.v, sizeof x.v), 0) << "frame " << f << " body " << i;
+    }
+  }
+}
+
+// A large static box (a floor) is tested by every awake body directly, not
+// filed in the grid: cubes dropped on it come to rest on its top.
+TEST(GpuHost, CubesRestOnALargeStaticBox) {
+  Scene s = scene("drop");
+  s.bodies.clear();
+  s.effects.ground = false;
+  BodyDesc floor;
+  floor.is_static = true;
+  floor.half_extents = {30.0, 0.5, 30.0};
+  floor.position = {0.0, -0.5, 0.0};
+  s.bodies.push_back(floor);
+  for (int k = 0; k < 8; ++k) {
+    BodyDesc c;
+    c.position = {-8.0 + 2.0 * k, 1.0 + 0.25 * k, 0.0};
+    s.bodies.push_back(c);
+  }
+  GpuWorld g(s, host_options());
+  World<float> w(s);
+  for (int f = 0; f < 240; ++f) { g.step(); w.step(); }
+  for (int i = 1; i < g.body_count(); ++i) {
+    EXPECT_NEAR(g.body(i).p[1], 0.5, 0.01) << "cube " << i;
+    EXPECT_EQ(g.body(i).asleep, gpu_test::snapshot(w, i).asleep) << "cube " << i;
+  }
+}
+
+// The host build says what it is.
+TEST(GpuHost, DescribesItsBackend) {
+  const Scene s = scene("drop");
+  EXPECT_EQ(GpuWorld(s, host_options()).description(), "gpu (host build: requested)");
+  gpu::GpuOptions automatic;
+  automatic.quiet = true;
+  GpuWorld a(s, automatic);
+  if (!gpu::cuda_device_available()) {
+    EXPECT_FALSE(a.on_device());
+    EXPECT_EQ(a.description(), gpu::built_with_cuda() ? "gpu (host build: no CUDA device)"
+                                                      : "gpu (host build: built without CUDA)");
+  } else {
+    EXPECT_TRUE(a.on_device());
+  }
+  auto e = make_gpu_engine(s);
+  EXPECT_EQ(e->name(), "gpu");
+}
+
+// A non-finite state is a RunError naming the frame and body, as in World<float>.
+TEST(GpuHost, NonFiniteStateIsARunError) {
+  Scene s = scene("drop");
+  s.bodies[0].velocity = {0.0, 3e38, 0.0};
+  s.constants.linear_damping = 0.0;
+  s.effects.damping = false;
+  GpuWorld g(s, host_options());
+  World<float> w(s);
+  int gpu_frame = -1, ref_frame = -1;
+  std::string gpu_what, ref_what;
+  for (int f = 0; f < 200 && (gpu_frame < 0 || ref_frame < 0); ++f) {
+    if (gpu_frame < 0) {
+      try { g.step(); } catch (const RunError& e) { gpu_frame = e.frame; gpu_what = e.quantity; }
+    }
+    if (ref_frame < 0) {
+      try { w.step(); } catch (const RunError& e) { ref_frame = e.frame; ref_what = e.quantity; }
+    }
+  }
+  EXPECT_GT(gpu_frame, 0);
+  EXPECT_EQ(gpu_frame, ref_frame);
+  EXPECT_EQ(gpu_what, ref_what);
+}
+
+}  // namespace
+}  // namespace lockstep
