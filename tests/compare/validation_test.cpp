@@ -1,0 +1,73 @@
+// The validation suite of docs/SPEC.md Appendix C through the harness: every
+// built-in scene runs on the fixed, float and double engines (and the gpu
+// engine when it is built) side by side, and must agree within the scene's
+// tolerances (compare/src/harness/tolerances.cpp); each engine must also meet
+// the C.1 expectations on the final state of tip_edge, tip_corner and stack5.
+// pile1000 runs kPileFrames frames here; its full length is the test
+// ValidationLong.Pile1000FullLength (label long).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "lockstep/builtin_scenes.hpp"
+#include "lockstep/compare/harness.hpp"
+#include "lockstep/compare/report.hpp"
+#include "lockstep/compare/resting.hpp"
+
+namespace {
+
+using namespace lockstep;
+using namespace lockstep::compare;
+
+constexpr int kPileFrames = 100;  // by then the top layer has landed (it falls 12.75 m: 97 frames)
+
+std::vector<std::string> engines_under_test() {
+  std::vector<std::string> e{"fixed", "float", "double"};
+  for (const std::string& n : engine_names())
+    if (n == "gpu") e.push_back(n);
+  return e;
+}
+
+// C.1: tip_edge and tip_corner end flat (alignment > 0.998) and asleep;
+// stack5's cubes end within 0.05 m horizontally of their start, all asleep.
+void expect_appendix_c1(const Scene& scene, const EngineTrack& t) {
+  const bool tip = scene.name == "tip_edge" || scene.name == "tip_corner";
+  for (std::size_t i = 0; i < t.final_bodies.size(); ++i) {
+    const BodySnapshot& b = t.final_bodies[i];
+    if (tip) {
+      EXPECT_GT(face_up(b.q, 0.998).alignment, 0.998) << scene.name << ", " << t.name << ", body " << i;
+      EXPECT_TRUE(b.asleep) << scene.name << ", " << t.name << ", body " << i;
+    }
+    if (scene.name == "stack5") {
+      const Vec3d p0 = scene.bodies[i].position;
+      EXPECT_LE(std::hypot(b.p[0] - p0.x, b.p[2] - p0.z), 0.05) << t.name << ", body " << i;
+      EXPECT_TRUE(b.asleep) << t.name << ", body " << i;
+    }
+  }
+}
+
+void validate(Scene scene) {
+  const Recording r = record(scene, engines_under_test(), "double");
+  const Verdict v = judge(r, tolerances_for(scene));
+  EXPECT_TRUE(v.agree()) << summary_table(r, v);
+  for (const EngineTrack& t : r.engines) {
+    EXPECT_FALSE(t.failed) << t.name << ": " << t.failure.message;
+    EXPECT_EQ(t.frames_run, scene.frames) << t.name;
+    expect_appendix_c1(scene, t);
+  }
+}
+
+class ValidationTest : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(ValidationTest, EnginesAgreeWithinTheSceneTolerances) {
+  Scene scene = *builtin_scene(GetParam());
+  if (scene.name == "pile1000") scene.frames = kPileFrames;
+  validate(scene);
+}
+
+INSTANTIATE_TEST_SUITE_P(BuiltinScenes, ValidationTest, ::testing::ValuesIn(builtin_scene_names()),
+                         [](const ::testing::TestParamInfo<std::string>& p) { return p.param; });
+
+TEST(ValidationLong, Pile1000FullLength) { validate(*builtin_scene("pile1000")); }
+
+}  // namespace
