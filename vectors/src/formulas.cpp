@@ -1,0 +1,887 @@
+// Level 2: single equations of docs/SPEC.md in raw Q16.16. Every case calls the
+// engine's own per-equation functions (reference/include/lockstep/physics/),
+// the same code World<Q16> runs; one compute function per formula serves both
+// generation and verification.
+#include "lockstep/vectors/formulas.hpp"
+
+#include <functional>
+
+#include "lockstep/physics/aabb.hpp"
+#include "lockstep/physics/contact.hpp"
+#include "lockstep/physics/integrate.hpp"
+#include "lockstep/physics/params.hpp"
+#include "lockstep/physics/sdf.hpp"
+#include "lockstep/physics/settle.hpp"
+#include "lockstep/physics/sleep.hpp"
+#include "lockstep/vectors/params_json.hpp"
+#include "lockstep/world.hpp"
+
+namespace lockstep::vectors {
+namespace {
+
+using V = Vec3<Q16>;
+using Qt = Quat<Q16>;
+using M = Mat3<Q16>;
+using View = BodyView<Q16>;
+using In = const Json&;
+using Fn = std::function<Json(In, const std::string&)>;
+
+constexpr std::int32_t kOne = 65536;
+
+struct Formula {
+  const char* function;
+  std::vector<int> equations;
+  const char* description;  // the computation, in the order it is done
+  Fn compute;
+};
+
+M identity() {
+  const Q16 one = Q16::from_raw(kOne);
+  return {{{one, Q16{}, Q16{}}, {Q16{}, one, Q16{}}, {Q16{}, Q16{}, one}}};
+}
+
+// An immovable contact side (ground, SDF, static or sleeping body): v = w = 0,
+// m^-1 = 0, I^-1 = 0, R = identity (SPEC 0.1).
+View immovable() {
+  View v;
+  v.R = identity();
+  return v;
+}
+
+View view_at(In in, const std::string& key, const std::string& path) {
+  const Json& b = member(in, key, path);
+  const std::string p = path + "." + key;
+  View v;
+  v.v = vec_at(b, "v", p);
+  v.w = vec_at(b, "w", p);
+  v.inv_mass = q16_at(b, "inv_mass", p);
+  v.R = mat_at(b, "R", p);
+  v.inv_inertia = vec_at(b, "inv_inertia", p);
+  return v;
+}
+
+Json view_json(const View& v) {
+  return Json{{"v", to_json(v.v)},
+              {"w", to_json(v.w)},
+              {"inv_mass", to_json(v.inv_mass)},
+              {"R", to_json(v.R)},
+              {"inv_inertia", to_json(v.inv_inertia)}};
+}
+
+Json velocities(const View& v) { return Json{{"v", to_json(v.v)}, {"w", to_json(v.w)}}; }
+
+// Params with the defaults of Appendix A, overridden by any Params field
+// present in `in` (the group's shared inputs name the ones a formula uses).
+Params<Q16> params_at(In in, const std::string& path) {
+  Params<Q16> P = Params<Q16>::from(Constants{});
+  for (const ParamField& f : param_fields()) {
+    if (!in.contains(f.name)) continue;
+    if (f.q16 != nullptr)
+      P.*(f.q16) = q16_at(in, f.name, path);
+    else if (f.vec != nullptr)
+      P.*(f.vec) = vec_at(in, f.name, path);
+    else
+      P.*(f.integer) = static_cast<int>(int_at(in, f.name, path));
+  }
+  return P;
+}
+
+Json shared_params(std::initializer_list<const char*> names) {
+  const Json all = params_to_json(Params<Q16>::from(Constants{}));
+  Json s = Json::object();
+  for (const char* n : names) s[n] = all.at(n);
+  return s;
+}
+
+// ---------------------------------------------------------------------------
+// The formulas
+// ---------------------------------------------------------------------------
+
+Json f_params(In in, const std::string& p) { return params_to_json(Params<Q16>::from(constants_from_json(in, p))); }
+
+Json f_apply_gravity(In in, const std::string& p) {
+  return Json{{"v", to_json(apply_gravity(vec_at(in, "v", p), vec_at(in, "gravity_dt", p)))}};
+}
+Json f_apply_damping(In in, const std::string& p) {
+  return Json{{"x", to_json(apply_damping(vec_at(in, "x", p), q16_at(in, "factor", p)))}};
+}
+Json f_integrate_position(In in, const std::string& p) {
+  return Json{{"p", to_json(integrate_position(vec_at(in, "p", p), vec_at(in, "v", p), q16_at(in, "dt", p)))}};
+}
+Json f_integrate_orientation(In in, const std::string& p) {
+  return Json{{"q", to_json(integrate_orientation(quat_at(in, "q", p), vec_at(in, "w", p), q16_at(in, "half_dt", p)))}};
+}
+Json f_box_inverse_inertia(In in, const std::string& p) {
+  const Q16 three = Q16::from_int(3);
+  return Json{{"inv_inertia", to_json(box_inverse_inertia(vec_at(in, "half", p), q16_at(in, "inv_mass", p), three))}};
+}
+Json f_apply_inverse_inertia(In in, const std::string& p) {
+  return Json{
+      {"out", to_json(apply_inverse_inertia(mat_at(in, "R", p), vec_at(in, "inv_inertia", p), vec_at(in, "x", p)))}};
+}
+Json f_rotated_half_extents(In in, const std::string& p) {
+  const M R = rotation_matrix(quat_at(in, "q", p));
+  return Json{{"R", to_json(R)}, {"aabb_half", to_json(rotated_half_extents(R, vec_at(in, "half", p)))}};
+}
+Json f_cell_coord(In in, const std::string& p) {
+  return Json{{"cell", cell_coord(q16_at(in, "x", p), q16_at(in, "inv_cell_size", p))}};
+}
+Json f_aabb_overlap(In in, const std::string& p) {
+  const Overlap<Q16> o =
+      aabb_overlap(vec_at(in, "p1", p), vec_at(in, "h1", p), vec_at(in, "p2", p), vec_at(in, "h2", p));
+  return Json{{"hit", o.hit}, {"axis", o.axis}, {"penetration", to_json(o.penetration)}, {"normal", to_json(o.normal)}};
+}
+Json f_aabb_contact_point(In in, const std::string& p) {
+  return Json{{"point", to_json(aabb_contact_point(vec_at(in, "p1", p), vec_at(in, "h1", p), vec_at(in, "p2", p),
+                                                   vec_at(in, "h2", p), Q16::from_double(0.5)))}};
+}
+Json f_box_corner(In in, const std::string& p) {
+  const M R = rotation_matrix(quat_at(in, "q", p));
+  const auto k = int_at(in, "k", p);
+  if (k < 0 || k > 7) throw FormatError(p + ".k: must be 0..7");
+  return Json{{"R", to_json(R)},
+              {"corner", to_json(box_corner(vec_at(in, "p", p), R, vec_at(in, "half", p), static_cast<int>(k)))}};
+}
+Json f_contact_prepare(In in, const std::string& p) {
+  const View A = view_at(in, "a", p);
+  const View B = view_at(in, "b", p);
+  const V r1 = vec_at(in, "r1", p), r2 = vec_at(in, "r2", p), n = vec_at(in, "n", p);
+  const Q16 v_n0 = dot(relative_velocity(A, r1, B, r2), n);  // eqs 48-49
+  const Q16 e = low_speed_restitution(combined_restitution(q16_at(in, "e1", p), q16_at(in, "e2", p)), v_n0,
+                                      q16_at(in, "restitution_min_speed", p));   // eqs 50, 76
+  const Q16 mu = combined_friction(q16_at(in, "mu1", p), q16_at(in, "mu2", p));  // eq 58
+  const Q16 k_n = inverse_effective_mass(A, r1, B, r2, n);                       // eq 86
+  return Json{{"v_n0", to_json(v_n0)}, {"e", to_json(e)}, {"mu", to_json(mu)}, {"k_n", to_json(k_n)}};
+}
+// One solver iteration's normal impulse on one contact (SPEC 7.2 step 5): the
+// target normal velocity (eq 97) is an input, so this group depends on eqs
+// 86, 48-49, 94 and 87 only.
+Json normal_step(View A, View B, In in, const std::string& p) {
+  const V r1 = vec_at(in, "r1", p), r2 = vec_at(in, "r2", p), n = vec_at(in, "n", p);
+  Q16 j_n = q16_at(in, "j_n", p);
+  const Q16 k_n = inverse_effective_mass(A, r1, B, r2, n);                           // eq 86
+  const Q16 v_n = dot(relative_velocity(A, r1, B, r2), n);                           // eqs 48-49
+  const Q16 dj = accumulate_normal_impulse(j_n, v_n, q16_at(in, "target", p), k_n);  // eqs 53, 94
+  if (dj != Q16{}) apply_impulse(A, r1, B, r2, n * dj);                              // eq 87
+  return Json{{"k_n", to_json(k_n)}, {"v_n", to_json(v_n)}, {"dj", to_json(dj)},
+              {"j_n", to_json(j_n)}, {"a", velocities(A)},  {"b", velocities(B)}};
+}
+Json f_ground_impulse(In in, const std::string& p) {
+  Json inb = in;
+  inb["r2"] = Json::array({0, 0, 0});
+  Json out = normal_step(view_at(in, "a", p), immovable(), inb, p);
+  out.erase("b");
+  return out;
+}
+Json f_two_body_impulse(In in, const std::string& p) {
+  return normal_step(view_at(in, "a", p), view_at(in, "b", p), in, p);
+}
+Json f_friction_step(In in, const std::string& p) {
+  View A = view_at(in, "a", p);
+  View B = view_at(in, "b", p);
+  const V r1 = vec_at(in, "r1", p), r2 = vec_at(in, "r2", p), n = vec_at(in, "n", p);
+  V j_t = vec_at(in, "j_t", p);
+  const V v_tan = tangential_velocity(relative_velocity(A, r1, B, r2), n);  // eq 56
+  const bool applied = length(v_tan) > Q16{};                               // eq 57
+  V t, dJ;
+  Q16 k_t;
+  if (applied) {
+    t = normalize(v_tan);                                                                          // eq 60
+    k_t = inverse_effective_mass(A, r1, B, r2, t);                                                 // eq 88
+    dJ = accumulate_friction_impulse(j_t, v_tan, k_t, q16_at(in, "mu", p), q16_at(in, "j_n", p));  // eqs 88, 95
+    apply_impulse(A, r1, B, r2, dJ);                                                               // eqs 61-62, 87
+  }
+  return Json{{"v_tan", to_json(v_tan)}, {"applied", applied},  {"t", to_json(t)},    {"k_t", to_json(k_t)},
+              {"dJ", to_json(dJ)},       {"j_t", to_json(j_t)}, {"a", velocities(A)}, {"b", velocities(B)}};
+}
+Json f_baumgarte(In in, const std::string& p) {
+  V pa = vec_at(in, "pa", p), pb = vec_at(in, "pb", p);
+  baumgarte_correction(pa, pb, vec_at(in, "n", p), q16_at(in, "penetration", p), q16_at(in, "inv_mass_a", p),
+                       q16_at(in, "inv_mass_b", p), q16_at(in, "slop", p), q16_at(in, "percent", p));
+  return Json{{"pa", to_json(pa)}, {"pb", to_json(pb)}};
+}
+Json f_alignment(In in, const std::string& p) {
+  const M R = rotation_matrix(quat_at(in, "q", p));
+  const Alignment<Q16> a = alignment_of(R, vec_at(in, "up", p));
+  return Json{{"R", to_json(R)}, {"best_axis", to_json(a.best_axis)}, {"alignment", to_json(a.alignment)}};
+}
+Json f_righting(In in, const std::string& p) {
+  const V up = vec_at(in, "up", p);
+  const Alignment<Q16> a = alignment_of(mat_at(in, "R", p), up);
+  return Json{{"best_axis", to_json(a.best_axis)},
+              {"alignment", to_json(a.alignment)},
+              {"w", to_json(righting(vec_at(in, "w", p), a, up, q16_at(in, "speed", p), params_at(in, p)))}};
+}
+Json f_regime_damping(In in, const std::string& p) {
+  return Json{{"w", to_json(regime_damping(vec_at(in, "w", p), q16_at(in, "alignment", p), params_at(in, p)))}};
+}
+Json f_cancel_resting(In in, const std::string& p) {
+  return Json{{"v", to_json(cancel_resting_velocity(vec_at(in, "v", p), vec_at(in, "v_support", p), vec_at(in, "n", p),
+                                                    q16_at(in, "rest_speed", p)))}};
+}
+Json f_settle_linear(In in, const std::string& p) {
+  return Json{{"v", to_json(settle_linear(vec_at(in, "v", p), q16_at(in, "speed", p), params_at(in, p)))}};
+}
+Json f_combined_restitution(In in, const std::string& p) {
+  return Json{{"e", to_json(combined_restitution(q16_at(in, "e1", p), q16_at(in, "e2", p)))}};
+}
+Json f_low_speed_restitution(In in, const std::string& p) {
+  return Json{{"e", to_json(low_speed_restitution(q16_at(in, "e", p), q16_at(in, "v_n", p),
+                                                  q16_at(in, "restitution_min_speed", p)))}};
+}
+Json f_combined_friction(In in, const std::string& p) {
+  return Json{{"mu", to_json(combined_friction(q16_at(in, "mu1", p), q16_at(in, "mu2", p)))}};
+}
+Json f_sleep_candidate(In in, const std::string& p) {
+  return Json{{"candidate", sleep_candidate(bool_at(in, "supported", p), q16_at(in, "speed", p), q16_at(in, "spin", p),
+                                            q16_at(in, "alignment", p), params_at(in, p))}};
+}
+Json f_sleep_stage(In in, const std::string& p) {
+  const SleepStage s =
+      sleep_stage(static_cast<int>(int_at(in, "counter", p)), static_cast<int>(int_at(in, "drowsy_frames", p)),
+                  static_cast<int>(int_at(in, "sleep_frames", p)));
+  return Json{{"stage", static_cast<int>(s)}};
+}
+Json f_wakes(In in, const std::string& p) {
+  return Json{{"wakes", wakes(q16_at(in, "v_n", p), q16_at(in, "penetration", p), params_at(in, p))}};
+}
+
+// The shared grid of the sdf_sample group (eq 32: spacing and its inverse).
+SdfGrid<Q16> grid_at(In in, const std::string& p, std::vector<Q16>& values) {
+  SdfGrid<Q16> g;
+  g.min = vec_at(in, "min", p);
+  g.max = vec_at(in, "max", p);
+  const Json& n = member(in, "n", p);
+  if (!n.is_array() || n.size() != 3) throw FormatError(p + ".n: expected [nx, ny, nz]");
+  for (int a = 0; a < 3; ++a) {
+    g.n[a] = n[static_cast<std::size_t>(a)].get<int>();
+    if (g.n[a] < 2) throw FormatError(p + ".n: each resolution must be >= 2");
+  }
+  g.inv_spacing = vec_at(in, "inv_spacing", p);
+  g.spacing = vec_at(in, "spacing", p);
+  const Json& vals = member(in, "values", p);
+  if (!vals.is_array() || vals.size() != static_cast<std::size_t>(g.n[0]) * g.n[1] * g.n[2])
+    throw FormatError(p + ".values: expected nx*ny*nz raw values");
+  values.clear();
+  for (const Json& x : vals) values.push_back(Q16::from_raw(x.get<std::int32_t>()));
+  g.values = values.data();
+  return g;
+}
+Json f_sdf_sample(In in, const std::string& p) {
+  std::vector<Q16> values;
+  const SdfGrid<Q16> g = grid_at(in, p, values);
+  const V x = vec_at(in, "p", p);
+  const V grad = sdf_gradient(g, x);  // eq 34
+  const bool valid = length(grad) > Q16{};
+  return Json{{"inside", sdf_contains(g, x)},
+              {"d", to_json(sdf_distance(g, x))},  // eqs 32-33
+              {"grad", to_json(grad)},
+              {"normal_valid", valid},
+              {"n", to_json(valid ? normalize(grad) : V{})}};  // eq 36
+}
+
+// eq 92 through the engine itself: the bodies become a scene, the world is
+// built, its state must be exactly the given one, and World::state_hash() is
+// the output.
+Json f_state_hash(In in, const std::string& p) {
+  const Json& bodies = member(in, "bodies", p);
+  Scene s;
+  s.name = "state_hash";
+  auto d = [](const Json& x) { return static_cast<double>(x.get<std::int32_t>()) / 65536.0; };
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    const Json& b = bodies[i];
+    if (!b.is_array() || b.size() != 14)
+      throw FormatError(p + ".bodies[" + std::to_string(i) + "]: expected 13 raw values and asleep");
+    BodyDesc bd;
+    bd.position = {d(b[0]), d(b[1]), d(b[2])};
+    bd.orientation = {d(b[3]), d(b[4]), d(b[5]), d(b[6])};
+    bd.velocity = {d(b[7]), d(b[8]), d(b[9])};
+    bd.angular_velocity = {d(b[10]), d(b[11]), d(b[12])};
+    bd.asleep = b[13].get<int>() != 0;
+    s.bodies.push_back(bd);
+  }
+  const World<Q16> w(s);
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    const Body<Q16>& b = w.bodies()[i];
+    const Json got =
+        Json::array({b.p.x.raw(), b.p.y.raw(), b.p.z.raw(), b.q.w.raw(), b.q.x.raw(), b.q.y.raw(), b.q.z.raw(),
+                     b.v.x.raw(), b.v.y.raw(), b.v.z.raw(), b.w.x.raw(), b.w.y.raw(), b.w.z.raw(), b.asleep ? 1 : 0});
+    if (got != bodies[i])
+      throw FormatError(p + ".bodies[" + std::to_string(i) +
+                        "]: not a loadable state (its quaternion must be a fixed point "
+                        "of eq 10): " +
+                        bodies[i].dump());
+  }
+  return Json{{"hash", hex64(w.state_hash())}};
+}
+
+const std::vector<Formula>& formulas() {
+  static const std::vector<Formula> all = {
+      {"params",
+       {91},
+       "Appendix A.2: the constants (doubles) converted by eq 22 and the derived values computed in Q16 "
+       "(half_dt = dt*0.5, inv_dt = 1/dt, gravity_dt = gravity*dt per component, damping factors "
+       "1 - lambda*dt, inv_cell_size = 1/cell_size, kd_dt = kd*dt, settle_factor = 1 - settle_damping, "
+       "righting_min_axis = 2^-12)",
+       f_params},
+      {"apply_gravity", {1, 5}, "v + gravity_dt", f_apply_gravity},
+      {"apply_damping", {6, 13}, "x * factor, per component", f_apply_damping},
+      {"integrate_position", {2}, "p + v * dt (v * dt per component first)", f_integrate_position},
+      {"integrate_orientation",
+       {7, 8, 9, 10},
+       "d = (0, w) (x) q (Hamilton product); q' = normalize(q + d * half_dt) (per component d_i * half_dt, then the "
+       "sum)",
+       f_integrate_orientation},
+      {"box_inverse_inertia",
+       {14, 15, 16, 17, 18},
+       "xx = hx*hx, ...; I^-1 = (3/(yy + zz) * inv_mass, 3/(xx + zz) * inv_mass, 3/(xx + yy) * inv_mass)",
+       f_box_inverse_inertia},
+      {"apply_inverse_inertia",
+       {90},
+       "x * inv_inertia.x when the three entries are equal (a cube); else R * (inv_inertia (.) (R^T x)), (.) the "
+       "component-wise product",
+       f_apply_inverse_inertia},
+      {"rotated_half_extents",
+       {31},
+       "R = mat3(q); aabb_half_i = dot((|R_i0|, |R_i1|, |R_i2|), half)",
+       f_rotated_half_extents},
+      {"cell_coord", {26, 82}, "floor_to_int(x * inv_cell_size)", f_cell_coord},
+      {"aabb_overlap",
+       {38, 39, 40, 41, 42, 43},
+       "delta = p1 - p2; overlap_i = h1_i + h2_i - |delta_i|; hit iff every overlap_i > 0; axis = argmin overlap "
+       "(ties: "
+       "lowest); penetration = overlap[axis]; normal = +-1 on axis (+1 when delta[axis] >= 0)",
+       f_aabb_overlap},
+      {"aabb_contact_point",
+       {85},
+       "c_i = (max(p1_i - h1_i, p2_i - h2_i) + min(p1_i + h1_i, p2_i + h2_i)) * 0.5",
+       f_aabb_contact_point},
+      {"box_corner",
+       {84, 93},
+       "R = mat3(q); corner k = p + R * (+-hx, +-hy, +-hz), bit 0 of k: x, bit 1: y, bit 2: z, set: +h",
+       f_box_corner},
+      {"contact_prepare",
+       {48, 49, 50, 58, 76, 86},
+       "v_n0 = dot(v_a + w_a x r1 - v_b - w_b x r2, n); e = min(e1, e2), 0 unless -v_n0 > restitution_min_speed; "
+       "mu = sqrt(mu1 * mu2); k_n = m_a^-1 + m_b^-1 + dot(I_a^-1 (r1 x n), r1 x n) + dot(I_b^-1 (r2 x n), r2 x n)",
+       f_contact_prepare},
+      {"ground_impulse",
+       {48, 49, 53, 86, 87, 94},
+       "one solver iteration's normal impulse on a ground contact (body b immovable, r2 = 0): k_n (86); "
+       "v_n = dot(v_a + w_a x r1, n) (48-49); dj = -(v_n - target) / k_n, j_n' = max(j_n + dj, 0), applied = "
+       "j_n' - j_n (94; target is the contact's target normal velocity, eq 97); if applied != 0: J = n * applied "
+       "on a at r1 (87). From j_n = 0 with target = -e v_n this is eq 53",
+       f_ground_impulse},
+      {"two_body_impulse",
+       {48, 49, 53, 86, 87, 94},
+       "as ground_impulse with body b movable: -J on b at r2 (87)",
+       f_two_body_impulse},
+      {"friction_step",
+       {56, 57, 58, 60, 86, 87, 88, 95},
+       "v_tan = v_rel - n dot(v_rel, n) (56); if |v_tan| > 0 (57): t = normalize(v_tan) (60), k_t = (86) along t, "
+       "accumulated j_t' = j_t - v_tan * (1 / k_t), scaled by (mu j_n) / |j_t'| when |j_t'| > mu j_n (95); "
+       "dJ = j_t' - j_t applied at r1/r2 (87)",
+       f_friction_step},
+      {"baumgarte_correction",
+       {63, 89},
+       "c = max(0, penetration - slop) * percent; if c > 0: total = inv_a + inv_b; pa += n * (c * (inv_a / total)); "
+       "pb -= n * (c * (inv_b / total))",
+       f_baumgarte},
+      {"alignment_of",
+       {64, 65, 66},
+       "R = mat3(q); d = R^T up; best = argmax_i |d_i| (ties: lowest i); axis = column best of R, negated if d[best] < "
+       "0; "
+       "alignment = |d[best]|; up is the support contact's normal",
+       f_alignment},
+      {"righting",
+       {67, 68, 69, 70, 71},
+       "alignment from R and up (64-66); axis = best_axis x up; if length(axis) >= righting_min_axis: r = "
+       "normalize(axis); "
+       "misalign = 1 - alignment; sf = max(speed_factor_min, speed_factor_max - speed); w_desired = kp * sf * "
+       "misalign; "
+       "w' = w + r * ((w_desired - dot(w, r)) * kd_dt)",
+       f_righting},
+      {"regime_damping",
+       {72, 73, 74},
+       "w * damp_fine if alignment > align_fine, else damp_good if > align_good, else "
+       "damp_fair if > align_fair, else w",
+       f_regime_damping},
+      {"cancel_resting_velocity",
+       {75},
+       "vn = dot(v - v_support, n); v - n * vn if |vn| < rest_speed, else v",
+       f_cancel_resting},
+      {"settle_linear", {77}, "v * settle_factor if speed < settle_speed, else v", f_settle_linear},
+      {"combined_restitution", {50}, "min(e1, e2)", f_combined_restitution},
+      {"low_speed_restitution", {76}, "e if -v_n > restitution_min_speed, else 0", f_low_speed_restitution},
+      {"combined_friction", {58}, "sqrt(mu1 * mu2)", f_combined_friction},
+      {"sleep_candidate",
+       {78},
+       "supported and speed < sleep_linear and spin < sleep_angular and alignment > sleep_alignment",
+       f_sleep_candidate},
+      {"sleep_stage",
+       {79, 80},
+       "2 (asleep) if counter >= sleep_frames, 1 (drowsy) if counter >= drowsy_frames, else 0",
+       f_sleep_stage},
+      {"wakes", {81}, "-v_n > wake_speed or penetration > wake_penetration", f_wakes},
+      {"sdf_sample",
+       {32, 33, 34, 36, 93},
+       "inside: min <= p <= max per axis; d: per axis u = (clamp(p_a, min_a, max_a) - min_a) * inv_spacing_a, "
+       "i = clamp(floor(u), 0, n_a - 2), f = u - i; trilinear along x, then y, then z with lerp(a, b, t) = a + (b - a) "
+       "* t; "
+       "grad_a = (d(p + spacing_a e_a) - d(p - spacing_a e_a)) * inv_spacing_a; n = normalize(grad) when |grad| > 0",
+       f_sdf_sample},
+      {"state_hash",
+       {92},
+       "FNV-1a 64 over, per body: raw int32 of p.x p.y p.z q.w q.x q.y q.z v.x v.y v.z w.x w.y w.z as 4 bytes "
+       "little-endian each, then 1 byte asleep",
+       f_state_hash},
+  };
+  return all;
+}
+
+const Formula* find_formula(const std::string& name) {
+  for (const Formula& f : formulas())
+    if (name == f.function) return &f;
+  return nullptr;
+}
+
+// ---------------------------------------------------------------------------
+// Case generation
+// ---------------------------------------------------------------------------
+
+struct Case {
+  Json in;
+  std::string comment;
+  std::vector<std::string> flags;
+};
+
+View random_view(Rng& rng) {
+  View v;
+  v.v = rng.vec(-5, 5);
+  v.w = rng.vec(-3, 3);
+  v.inv_mass = Q16::from_int(1) / rng.q16(0.5, 10);
+  v.R = rotation_matrix(rng.unit_quat());
+  v.inv_inertia = box_inverse_inertia(rng.vec(0.1, 2), v.inv_mass, Q16::from_int(3));
+  return v;
+}
+
+Json random_raw_vec(Rng& rng, double lo, double hi) { return to_json(rng.vec(lo, hi)); }
+
+// A unit normal within about 40 degrees of up (an SDF slope's support normal).
+V slope_normal(Rng& rng) { return normalize(V{rng.q16(-0.8, 0.8), Q16::from_int(1), rng.q16(-0.8, 0.8)}); }
+
+// A unit quaternion that eq 10 leaves unchanged (so a scene can load it exactly).
+Qt fixed_point_quat(Rng& rng) {
+  for (;;) {
+    Qt q = rng.unit_quat();
+    for (int k = 0; k < 8; ++k) {
+      const Qt n = normalize(q);
+      if (n == q) return q;
+      q = n;
+    }
+  }
+}
+
+std::vector<Case> cases_for(const std::string& fn, Rng& rng) {
+  std::vector<Case> out;
+  auto add = [&](Json in, std::string comment = "", std::vector<std::string> flags = {"Random"}) {
+    out.push_back({std::move(in), std::move(comment), std::move(flags)});
+  };
+  const Params<Q16> P = Params<Q16>::from(Constants{});
+  const int n = 24;
+  const Json zero = Json::array({0, 0, 0});
+  const Json up = Json::array({0, kOne, 0});
+  if (fn == "params") {
+    add(constants_to_json(Constants{}), "the defaults of Appendix A", {"Defaults"});
+    Constants c;
+    c.dt = 1.0 / 120.0;
+    c.gravity = {0.5, -1.62, 0.25};
+    c.linear_damping = 0.1;
+    c.angular_damping = 0.3;
+    c.cell_size = 3.0;
+    c.kd = 7.5;
+    c.settle_damping = 0.25;
+    c.solver_iterations = 8;
+    add(constants_to_json(c), "dt 1/120, lunar gravity with a tilt, other rates", {"Modified"});
+    return out;
+  }
+  for (int k = 0; k < n; ++k) {
+    Json in;
+    if (fn == "apply_gravity") {
+      in = {{"v", random_raw_vec(rng, -20, 20)}, {"gravity_dt", to_json(P.gravity_dt)}};
+    } else if (fn == "apply_damping") {
+      in = {{"x", random_raw_vec(rng, -20, 20)},
+            {"factor", to_json(k % 2 ? P.angular_damping_factor : P.linear_damping_factor)}};
+    } else if (fn == "integrate_position") {
+      in = {{"p", random_raw_vec(rng, -100, 100)}, {"v", random_raw_vec(rng, -20, 20)}, {"dt", to_json(P.dt)}};
+    } else if (fn == "integrate_orientation") {
+      in = {{"q", to_json(rng.unit_quat())}, {"w", random_raw_vec(rng, -10, 10)}, {"half_dt", to_json(P.half_dt)}};
+    } else if (fn == "box_inverse_inertia") {
+      in = {{"half", random_raw_vec(rng, 0.05, 3)}, {"inv_mass", to_json(Q16::from_int(1) / rng.q16(0.1, 100))}};
+    } else if (fn == "apply_inverse_inertia") {
+      View v = random_view(rng);
+      if (k % 3 == 0)
+        v.inv_inertia = box_inverse_inertia(V{Q16::from_raw(32768), Q16::from_raw(32768), Q16::from_raw(32768)},
+                                            v.inv_mass, Q16::from_int(3));  // a cube: the shortcut
+      in = {{"R", to_json(v.R)}, {"inv_inertia", to_json(v.inv_inertia)}, {"x", random_raw_vec(rng, -3, 3)}};
+    } else if (fn == "rotated_half_extents") {
+      in = {{"q", to_json(rng.unit_quat())}, {"half", random_raw_vec(rng, 0.05, 3)}};
+    } else if (fn == "cell_coord") {
+      in = {{"x", to_json(rng.q16(-200, 200))}, {"inv_cell_size", to_json(P.inv_cell_size)}};
+    } else if (fn == "aabb_overlap" || fn == "aabb_contact_point") {
+      const Json p1 = random_raw_vec(rng, -1, 1);
+      const Json p2 = random_raw_vec(rng, -1, 1);
+      in = {{"p1", p1}, {"h1", random_raw_vec(rng, 0.1, 1)}, {"p2", p2}, {"h2", random_raw_vec(rng, 0.1, 1)}};
+    } else if (fn == "box_corner") {
+      in = {{"p", random_raw_vec(rng, -10, 10)},
+            {"q", to_json(rng.unit_quat())},
+            {"half", random_raw_vec(rng, 0.1, 2)},
+            {"k", k % 8}};
+    } else if (fn == "contact_prepare") {
+      const bool ground = k % 3 == 0;
+      const View A = random_view(rng);
+      const View B = ground ? immovable() : random_view(rng);
+      const Json n_json = ground ? up : to_json(normalize(rng.vec(-1, 1)));
+      in = {{"a", view_json(A)},
+            {"b", view_json(B)},
+            {"r1", random_raw_vec(rng, -1, 1)},
+            {"r2", ground ? zero : random_raw_vec(rng, -1, 1)},
+            {"n", n_json},
+            {"e1", to_json(rng.q16(0, 1))},
+            {"e2", to_json(rng.q16(0, 1))},
+            {"mu1", to_json(rng.q16(0, 1))},
+            {"mu2", to_json(rng.q16(0, 1))},
+            {"restitution_min_speed", to_json(P.restitution_min_speed)}};
+      add(in, ground ? "body b is the ground (immovable)" : "two bodies");
+      continue;
+    } else if (fn == "ground_impulse" || fn == "two_body_impulse") {
+      const View A = random_view(rng);
+      const View B = fn == "ground_impulse" ? immovable() : random_view(rng);
+      const V r1 = rng.vec(-1, 1);
+      const V r2 = fn == "ground_impulse" ? V{} : rng.vec(-1, 1);
+      const V nn = fn == "ground_impulse" ? V{Q16{}, Q16::from_raw(kOne), Q16{}} : normalize(rng.vec(-1, 1));
+      const Q16 v_n = dot(relative_velocity(A, r1, B, r2), nn);
+      const bool first = k % 2 == 0;  // first iteration: j_n = 0, target = -e v_n (exactly eq 53)
+      in = {{"a", view_json(A)}};
+      if (fn == "two_body_impulse") in["b"] = view_json(B);
+      in["r1"] = to_json(r1);
+      if (fn == "two_body_impulse") in["r2"] = to_json(r2);
+      in["n"] = to_json(nn);
+      const Q16 e = rng.q16(0, 1);
+      const Q16 later_target = rng.q16(-0.2, 2);
+      in["target"] = to_json(first ? -(e * min(v_n, Q16{})) : later_target);
+      in["j_n"] = to_json(first ? Q16{} : rng.q16(0, 3));
+      add(in, first ? "first iteration: j_n = 0, target -e v_n (eq 53)" : "later iteration: accumulated j_n");
+      continue;
+    } else if (fn == "friction_step") {
+      const bool ground = k % 3 == 0;
+      const View A = random_view(rng);
+      const View B = ground ? immovable() : random_view(rng);
+      in = {{"a", view_json(A)},
+            {"b", view_json(B)},
+            {"r1", random_raw_vec(rng, -1, 1)},
+            {"r2", ground ? zero : random_raw_vec(rng, -1, 1)},
+            {"n", ground ? up : to_json(normalize(rng.vec(-1, 1)))},
+            {"mu", to_json(rng.q16(0, 1))},
+            {"j_n", to_json(rng.q16(0, 3))},
+            {"j_t", k % 2 ? random_raw_vec(rng, -0.5, 0.5) : zero}};
+      add(in, ground ? "against the ground" : "two bodies");
+      continue;
+    } else if (fn == "baumgarte_correction") {
+      const bool ground = k % 3 == 0;
+      in = {{"pa", random_raw_vec(rng, -10, 10)},
+            {"pb", random_raw_vec(rng, -10, 10)},
+            {"n", ground ? up : to_json(normalize(rng.vec(-1, 1)))},
+            {"penetration", to_json(rng.q16(0, 0.2))},
+            {"inv_mass_a", to_json(Q16::from_int(1) / rng.q16(0.5, 10))},
+            {"inv_mass_b", ground ? Json(0) : to_json(Q16::from_int(1) / rng.q16(0.5, 10))},
+            {"slop", to_json(P.slop)},
+            {"percent", to_json(P.baumgarte)}};
+      add(in, ground ? "against the ground (inv_mass_b = 0)" : "two bodies");
+      continue;
+    } else if (fn == "alignment_of") {
+      const Json q = to_json(rng.unit_quat());
+      in = {{"q", q}, {"up", k % 3 ? up : to_json(slope_normal(rng))}};
+    } else if (fn == "righting") {
+      // Tilted a little (the case righting is for) or anywhere; on the ground or a slope.
+      Qt q =
+          k % 2 ? rng.unit_quat() : normalize(Qt{Q16::from_raw(kOne), rng.q16(-0.2, 0.2), Q16{}, rng.q16(-0.2, 0.2)});
+      const Json w = random_raw_vec(rng, -3, 3);
+      const Json speed = to_json(rng.q16(0, 3));
+      in = {{"R", to_json(rotation_matrix(q))},
+            {"w", w},
+            {"up", k % 3 ? up : to_json(slope_normal(rng))},
+            {"speed", speed}};
+    } else if (fn == "regime_damping") {
+      in = {{"w", random_raw_vec(rng, -3, 3)}, {"alignment", to_json(rng.q16(0.9, 1))}};
+    } else if (fn == "cancel_resting_velocity") {
+      in = {{"v", random_raw_vec(rng, -0.5, 0.5)},
+            {"v_support", k % 2 ? random_raw_vec(rng, -0.3, 0.3) : zero},
+            {"n", k % 3 ? up : to_json(normalize(rng.vec(-1, 1)))},
+            {"rest_speed", to_json(P.rest_speed)}};
+    } else if (fn == "settle_linear") {
+      in = {{"v", random_raw_vec(rng, -0.4, 0.4)}, {"speed", to_json(rng.q16(0, 0.6))}};
+    } else if (fn == "combined_restitution") {
+      in = {{"e1", to_json(rng.q16(0, 1))}, {"e2", to_json(rng.q16(0, 1))}};
+    } else if (fn == "low_speed_restitution") {
+      in = {{"e", to_json(rng.q16(0, 1))},
+            {"v_n", to_json(rng.q16(-2, 0.5))},
+            {"restitution_min_speed", to_json(P.restitution_min_speed)}};
+    } else if (fn == "combined_friction") {
+      in = {{"mu1", to_json(rng.q16(0, 4))}, {"mu2", to_json(rng.q16(0, 4))}};
+    } else if (fn == "sleep_candidate") {
+      in = {{"supported", k % 4 != 0},
+            {"speed", to_json(rng.q16(0, 0.07))},
+            {"spin", to_json(rng.q16(0, 0.07))},
+            {"alignment", to_json(rng.q16(0.985, 1))}};
+    } else if (fn == "sleep_stage") {
+      in = {{"counter", k + 4 * (k / 6)}, {"drowsy_frames", P.drowsy_frames}, {"sleep_frames", P.sleep_frames}};
+      add(in, "", {"Sweep"});
+      continue;
+    } else if (fn == "wakes") {
+      in = {{"v_n", to_json(rng.q16(-0.5, 0.2))}, {"penetration", to_json(rng.q16(0, 0.04))}};
+    } else if (fn == "sdf_sample") {
+      // Inside the shared grid [-1, 1] x [-0.5, 1] x [-1.5, 1.5] mostly; a quarter beyond it (clamped).
+      in = {{"p", k % 4 == 3 ? random_raw_vec(rng, -2.5, 2.5)
+                             : Json::array({rng.q16(-1, 1).raw(), rng.q16(-0.5, 1).raw(), rng.q16(-1.5, 1.5).raw()})}};
+    } else if (fn == "state_hash") {
+      Json bodies = Json::array();
+      const int count = 1 + k % 4;
+      for (int b = 0; b < count; ++b) {
+        const V p = rng.vec(-50, 50), v = rng.vec(-5, 5), w = rng.vec(-3, 3);
+        const Qt q = fixed_point_quat(rng);
+        const int asleep = static_cast<int>(rng.range(0, 1));
+        bodies.push_back(Json::array({p.x.raw(), p.y.raw(), p.z.raw(), q.w.raw(), q.x.raw(), q.y.raw(), q.z.raw(),
+                                      v.x.raw(), v.y.raw(), v.z.raw(), w.x.raw(), w.y.raw(), w.z.raw(), asleep}));
+      }
+      in = {{"bodies", bodies}};
+    } else {
+      throw std::logic_error("no case generator for formula " + fn);
+    }
+    add(in);
+  }
+  // Edge cases.
+  if (fn == "aabb_overlap" || fn == "aabb_contact_point") {
+    const Json h = Json::array({32768, 32768, 32768});
+    add({{"p1", Json::array({0, kOne, 0})}, {"h1", h}, {"p2", zero}, {"h2", h}}, "touching faces: overlap 0, no hit",
+        {"Edge"});
+    add({{"p1", Json::array({0, kOne - 1, 0})}, {"h1", h}, {"p2", zero}, {"h2", h}}, "1 ulp overlap on y", {"Edge"});
+    add({{"p1", zero}, {"h1", h}, {"p2", zero}, {"h2", h}}, "coincident: equal overlaps, axis 0, sign(0) = +1",
+        {"Edge"});
+    add({{"p1", Json::array({-100, -100, -200})}, {"h1", h}, {"p2", zero}, {"h2", h}}, "negative delta: normal -1",
+        {"Edge"});
+  } else if (fn == "integrate_orientation") {
+    add({{"q", Json::array({kOne, 0, 0, 0})}, {"w", zero}, {"half_dt", to_json(P.half_dt)}}, "no spin: identity stays",
+        {"Edge"});
+  } else if (fn == "cell_coord") {
+    for (std::int32_t x : {-1, 0, 4 * kOne - 1, 4 * kOne, -4 * kOne, -4 * kOne - 1})
+      add({{"x", x}, {"inv_cell_size", to_json(P.inv_cell_size)}}, "cell boundary (floor)", {"Edge"});
+  } else if (fn == "friction_step") {
+    const View A = immovable();
+    add({{"a", view_json(A)},
+         {"b", view_json(A)},
+         {"r1", zero},
+         {"r2", zero},
+         {"n", up},
+         {"mu", 32768},
+         {"j_n", kOne},
+         {"j_t", zero}},
+        "no tangential velocity: no step", {"Edge"});
+  } else if (fn == "righting") {
+    add({{"R", to_json(identity())}, {"w", Json::array({100, -200, 300})}, {"up", up}, {"speed", 0}},
+        "aligned: axis below 2^-12, w unchanged", {"Edge"});
+  } else if (fn == "sdf_sample") {
+    add({{"p", Json::array({-kOne, -32768, -3 * 32768})}}, "the grid's min corner", {"Edge"});
+    add({{"p", Json::array({kOne, kOne, 3 * 32768})}}, "the grid's max corner", {"Edge"});
+  } else if (fn == "regime_damping") {
+    for (const Q16 a : {P.align_fine, P.align_good, P.align_fair})
+      add({{"w", Json::array({kOne, -kOne, 3})}, {"alignment", to_json(a)}},
+          "alignment exactly at a threshold (strict >)", {"Edge"});
+  } else if (fn == "sleep_candidate") {
+    add({{"supported", true}, {"speed", to_json(P.sleep_linear)}, {"spin", 0}, {"alignment", kOne}},
+        "speed exactly sleep_linear (strict <)", {"Edge"});
+    add({{"supported", true}, {"speed", 0}, {"spin", 0}, {"alignment", to_json(P.sleep_alignment)}},
+        "alignment exactly sleep_alignment (strict >)", {"Edge"});
+    add({{"supported", true}, {"speed", 0}, {"spin", 0}, {"alignment", kOne}}, "at rest and flat", {"Edge"});
+  } else if (fn == "wakes") {
+    add({{"v_n", to_json(-P.wake_speed)}, {"penetration", 0}}, "approach exactly wake_speed (strict >)", {"Edge"});
+    add({{"v_n", 0}, {"penetration", to_json(P.wake_penetration)}}, "penetration exactly wake_penetration (strict >)",
+        {"Edge"});
+  } else if (fn == "low_speed_restitution") {
+    add({{"e", 32768},
+         {"v_n", to_json(-P.restitution_min_speed)},
+         {"restitution_min_speed", to_json(P.restitution_min_speed)}},
+        "approach exactly restitution_min_speed (strict >): no bounce", {"Edge"});
+  } else if (fn == "baumgarte_correction") {
+    add({{"pa", zero},
+         {"pb", zero},
+         {"n", up},
+         {"penetration", to_json(P.slop)},
+         {"inv_mass_a", kOne},
+         {"inv_mass_b", 0},
+         {"slop", to_json(P.slop)},
+         {"percent", to_json(P.baumgarte)}},
+        "penetration = slop: no correction", {"Edge"});
+  }
+  return out;
+}
+
+// Shared inputs of a group: the Params fields its formula reads, or the grid.
+Json shared_for(const std::string& fn) {
+  if (fn == "righting")
+    return shared_params({"kp", "kd_dt", "speed_factor_min", "speed_factor_max", "righting_min_axis"});
+  if (fn == "regime_damping")
+    return shared_params({"align_fine", "align_good", "align_fair", "damp_fine", "damp_good", "damp_fair"});
+  if (fn == "settle_linear") return shared_params({"settle_speed", "settle_factor"});
+  if (fn == "sleep_candidate") return shared_params({"sleep_linear", "sleep_angular", "sleep_alignment"});
+  if (fn == "wakes") return shared_params({"wake_speed", "wake_penetration"});
+  if (fn == "sdf_sample") {
+    // A 5 x 4 x 7 grid over [-1, 1] x [-0.5, 1] x [-1.5, 1.5]; values: the
+    // distance to a sphere of radius 0.8 at (0.1, 0.2, -0.3), in Q16.
+    const V lo{Q16::from_double(-1), Q16::from_double(-0.5), Q16::from_double(-1.5)};
+    const V hi{Q16::from_double(1), Q16::from_double(1), Q16::from_double(1.5)};
+    const int nn[3] = {5, 4, 7};
+    V inv_spacing, spacing;
+    for (int a = 0; a < 3; ++a) {  // as World<Q16> computes them (eq 32)
+      const Q16 cells = Q16::from_int(nn[a] - 1);
+      inv_spacing[a] = cells / (hi[a] - lo[a]);
+      spacing[a] = (hi[a] - lo[a]) / cells;
+    }
+    const V c{Q16::from_double(0.1), Q16::from_double(0.2), Q16::from_double(-0.3)};
+    Json values = Json::array();
+    for (int k = 0; k < nn[2]; ++k)
+      for (int j = 0; j < nn[1]; ++j)
+        for (int i = 0; i < nn[0]; ++i) {
+          const V p{lo.x + spacing.x * Q16::from_int(i), lo.y + spacing.y * Q16::from_int(j),
+                    lo.z + spacing.z * Q16::from_int(k)};
+          values.push_back((length(p - c) - Q16::from_double(0.8)).raw());
+        }
+    return Json{{"min", to_json(lo)},
+                {"max", to_json(hi)},
+                {"n", Json::array({nn[0], nn[1], nn[2]})},
+                {"inv_spacing", to_json(inv_spacing)},
+                {"spacing", to_json(spacing)},
+                {"values", values}};
+  }
+  return Json::object();
+}
+
+Json merged(const Json& shared, const Json& in) {
+  Json m = shared.is_object() ? shared : Json::object();
+  for (auto it = in.begin(); it != in.end(); ++it) m[it.key()] = it.value();
+  return m;
+}
+
+}  // namespace
+
+std::vector<std::string> formula_functions() {
+  std::vector<std::string> names;
+  for (const Formula& f : formulas()) names.emplace_back(f.function);
+  return names;
+}
+
+Json compute_formula(const std::string& function, const Json& in, const std::string& path) {
+  const Formula* f = find_formula(function);
+  if (f == nullptr) throw FormatError(path + ": unknown formula \"" + function + "\"");
+  q16_clear_status();
+  Json out = f->compute(in, path + ".in");
+  const std::uint32_t status = q16_take_status();
+  return Json{{"out", std::move(out)}, {"status", status_to_json(status)}};
+}
+
+Json generate_formulas() {
+  Rng rng(0x666f726d756c6173ULL);  // "formulas"
+  Json groups = Json::array();
+  long id = 0;
+  for (const Formula& f : formulas()) {
+    const Json shared = shared_for(f.function);
+    Json tests = Json::array();
+    for (Case& c : cases_for(f.function, rng)) {
+      const Json res = compute_formula(f.function, merged(shared, c.in), f.function);
+      Json t;
+      t["tcId"] = ++id;
+      t["comment"] = c.comment;
+      t["flags"] = c.flags;
+      t["in"] = c.in;
+      t["out"] = res["out"];
+      t["status"] = res["status"];
+      tests.push_back(std::move(t));
+    }
+    Json g;
+    g["type"] = "Formula";
+    g["function"] = f.function;
+    g["equations"] = f.equations;
+    g["description"] = f.description;
+    g["shared"] = shared;
+    g["tests"] = std::move(tests);
+    groups.push_back(std::move(g));
+  }
+  Json doc;
+  doc["algorithm"] = "lockstep physics formulas (Q16.16)";
+  doc["level"] = 2;
+  doc["schema"] = "lockstep_formulas_schema_v1.json";
+  doc["schemaVersion"] = kSchemaVersion;
+  doc["generatorVersion"] = generator_version();
+  doc["numberOfTests"] = id;
+  doc["header"] = Json::array(
+      {"Level 2 of the lockstep test vectors: single equations of docs/SPEC.md on the fixed engine, bit for bit.",
+       "Each group is one function (its equations, and its computation in order in description); a test's inputs",
+       "are its in object merged over the group's shared object. Raw Q16.16 as integers, as in arithmetic.json.",
+       "A body view (a, b) is {v, w, inv_mass, R, inv_inertia}: the contact-side view of SPEC 0.1; the ground is",
+       "the immovable view (zeros, R = identity). Every intermediate is Q16 with the rules of arithmetic.json."});
+  doc["notes"] = Json{{"Random", "Pseudo-random inputs in the physical ranges of the built-in scenes."},
+                      {"Edge", "A boundary of the formula (a tie, touching boxes, a threshold, an undefined axis)."},
+                      {"Defaults", "The default constants of Appendix A."},
+                      {"Modified", "Constants other than the defaults."},
+                      {"Sweep", "Consecutive integer inputs across the thresholds."}};
+  doc["testGroups"] = std::move(groups);
+  return doc;
+}
+
+Verdict verify_formulas(const Json& doc, const std::string& file_name) {
+  Verdict v;
+  v.file = file_name;
+  try {
+    if (int_at(doc, "schemaVersion", "") != kSchemaVersion)
+      throw FormatError("schemaVersion " + member(doc, "schemaVersion", "").dump() + " is not supported");
+    const Json& groups = member(doc, "testGroups", "");
+    std::size_t count = 0;
+    for (std::size_t g = 0; g < groups.size(); ++g) {
+      const std::string gp = "testGroups[" + std::to_string(g) + "]";
+      const std::string fn = string_at(groups[g], "function", gp);
+      const Json shared = groups[g].contains("shared") ? groups[g]["shared"] : Json::object();
+      const Json& tests = member(groups[g], "tests", gp);
+      for (std::size_t t = 0; t < tests.size(); ++t) {
+        const std::string tp = gp + ".tests[" + std::to_string(t) + "]";
+        const Json& test = tests[t];
+        const long id = static_cast<long>(int_at(test, "tcId", tp));
+        const Json got = compute_formula(fn, merged(shared, member(test, "in", tp)), tp);
+        const Json expected{{"out", member(test, "out", tp)}, {"status", member(test, "status", tp)}};
+        const Difference d = first_difference(expected, got, "");
+        ++count;
+        if (d.found) {
+          v.ok = false;
+          v.tc_id = id;
+          v.field = d.path;
+          v.message = file_name + ": tcId " + std::to_string(id) + " (" + fn + "): " + d.path + " expected " +
+                      d.expected + ", got " + d.actual;
+          v.checked = count;
+          return v;
+        }
+      }
+    }
+    if (count != static_cast<std::size_t>(int_at(doc, "numberOfTests", "")))
+      throw FormatError("numberOfTests is " + doc["numberOfTests"].dump() + " but the file holds " +
+                        std::to_string(count) + " tests");
+    v.checked = count;
+  } catch (const FormatError& e) {
+    v.ok = false;
+    v.message = file_name + ": malformed: " + e.what();
+  } catch (const nlohmann::json::exception& e) {
+    v.ok = false;
+    v.message = file_name + ": malformed: " + e.what();
+  }
+  return v;
+}
+
+}  // namespace lockstep::vectors
