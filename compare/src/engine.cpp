@@ -20,16 +20,7 @@ std::string WorldRun<T>::description() const {
 }
 
 template <class T>
-BodySnapshot WorldRun<T>::body(int i) const {
-  const Body<T>& b = world_.body(i);
-  auto d = [](const T& x) { return Num<T>::to_double(x); };
-  return {{d(b.p.x), d(b.p.y), d(b.p.z)},
-          {d(b.q.w), d(b.q.x), d(b.q.y), d(b.q.z)},
-          {d(b.v.x), d(b.v.y), d(b.v.z)},
-          {d(b.w.x), d(b.w.y), d(b.w.z)},
-          b.asleep,
-          b.asleep ? b.sleep_frame : -1};
-}
+BodySnapshot WorldRun<T>::body(int i) const { return snapshot_of(world_.body(i)); }
 
 template <class T>
 std::vector<std::int32_t> WorldRun<T>::raw_state(int i) const {

@@ -1,14 +1,50 @@
 #!/usr/bin/env bash
 # Runs the GPU engine's device tests and measurements on the device machine
 # (docs/GPU.md "Performance"). The binaries are built on a machine with nvcc
-# (cmake -DCMAKE_BUILD_TYPE=Release; targets gpu_device_tests gpu_tests
-# gpu_bench lockstep) and copied to $BIN. Writes its results under $OUT.
+# (cmake -DCMAKE_BUILD_TYPE=Release -DLOCKSTEP_BUILD_BENCH=ON; targets
+# gpu_device_tests gpu_tests gpu_bench lockstep) and copied to $BIN. Writes
+# its results under $OUT.
 #   gpu/bench/run_device.sh [BIN] [SIZES]
+# QUICK=1: only the awake and asleep piles of SIZES (default 10^6) with the
+# stage breakdown, for each of the comma-separated binary folders in BIN
+# (each holding a gpu_bench): versions compared in one call.
+# NCU=0: no Nsight Compute pass; NCU=detail: also the speed-of-light,
+# occupancy, memory and warp-state sections of the heavy kernels (the last
+# folder's gpu_bench).
 set -u
 BIN=${1:-build-gpu-carry}
-SIZES=${2:-10000,100000,1000000,10000000}
 OUT=${OUT:-/tmp/lockstep-gpu-out}
 mkdir -p "$OUT"
+ncu_pass() {  # $1: folder with gpu_bench
+  command -v ncu > /dev/null || return 0
+  [ "${NCU:-1}" = 0 ] && return 0
+  echo "== ncu: DRAM bytes per kernel, one frame of the 10^6-cube pile ($1)"
+  timeout 300 ncu --profile-from-start off --metrics dram__bytes_read.sum,dram__bytes_write.sum,gpu__time_duration.sum \
+    --csv "$1/gpu_bench" --profile 1000000 > "$OUT/ncu.csv" 2> "$OUT/ncu.err"
+  echo "ncu rc=$?"; tail -3 "$OUT/ncu.err"
+  if [ "${NCU:-1}" = detail ]; then
+    timeout 400 ncu --profile-from-start off --kernel-name-base demangled \
+      -k 'regex:GatherK|ContactsK|SolveK|CorrectIntegrateK' --launch-count "${NCU_COUNT:-4}" \
+      --section SpeedOfLight --section Occupancy --section MemoryWorkloadAnalysis --section WarpStateStats \
+      --section SchedulerStats --section InstructionStats --section LaunchStats --section SourceCounters \
+      "$1/gpu_bench" --profile 1000000 > "$OUT/ncu_detail.txt" 2>&1
+    echo "ncu detail rc=$?"
+  fi
+}
+
+if [ "${QUICK:-0}" = 1 ]; then
+  nvidia-smi --query-gpu=name,driver_version,memory.total,clocks.sm,clocks.max.sm,clocks.mem --format=csv
+  SIZES=${2:-1000000}
+  last=""
+  for dir in ${BIN//,/ }; do
+    echo "== $dir"
+    "$dir/gpu_bench" --sizes "$SIZES" --cpu-sizes "" --sleep-size 0 2>&1 | tee "$OUT/quick_$(basename "$dir").txt"
+    last=$dir
+  done
+  ncu_pass "$last"
+  exit 0
+fi
+SIZES=${2:-10000,100000,1000000,10000000}
 {
   date -u
   nvidia-smi --query-gpu=name,driver_version,memory.total,clocks.sm,clocks.max.sm,clocks.mem --format=csv
@@ -21,10 +57,5 @@ echo "== tests (label gpu, then the host build's)"
 grep -E "^\[  (PASSED|FAILED|  OK|SKIPPED)|Failure|Which is|actual" "$OUT/device_tests.txt" | head -40
 "$BIN/gpu_tests" > "$OUT/host_tests.txt" 2>&1; echo "host-build tests rc=$?"; tail -1 "$OUT/host_tests.txt"
 echo "== benchmark"
-"$BIN/gpu_bench" --sizes "$SIZES" --cpu-sizes 10000,100000 --json "$OUT/bench.json" 2>&1 | tee "$OUT/bench.txt"
-if command -v ncu > /dev/null && [ "${NCU:-1}" = 1 ]; then
-  echo "== ncu: DRAM bytes per kernel, one frame of the 10^6-cube pile"
-  timeout 300 ncu --profile-from-start off --metrics dram__bytes_read.sum,dram__bytes_write.sum,gpu__time_duration.sum \
-    --csv "$BIN/gpu_bench" --profile 1000000 > "$OUT/ncu.csv" 2> "$OUT/ncu.err"
-  echo "ncu rc=$?"; tail -3 "$OUT/ncu.err"
-fi
+"$BIN/gpu_bench" --sizes "$SIZES" --cpu-sizes "${CPU_SIZES-10000,100000}" --json "$OUT/bench.json" 2>&1 | tee "$OUT/bench.txt"
+ncu_pass "$BIN"

@@ -33,21 +33,27 @@ __global__ void for_n_kernel(int n, F f) {
 }
 
 // The heavy per-body kernels (gather, solver) are latency-bound; their
-// register cap is set by LOCKSTEP_GPU_MIN_BLOCKS blocks per multiprocessor.
-// Measured on an H200 (docs/GPU.md "Performance"): 2 (the solver's 117
-// registers, no spills) beats 3 and 4, whose spills cost more than the
+// register cap is set by a number of blocks per multiprocessor:
+// LOCKSTEP_GPU_MIN_BLOCKS for the solver's kernels, LOCKSTEP_GPU_GATHER_BLOCKS
+// for the gather. Measured (docs/GPU.md "Performance"): 2 for the solver (its
+// registers without spills) beats 3 and 4, whose spills cost more than the
 // extra warps gain.
 #ifndef LOCKSTEP_GPU_MIN_BLOCKS
 #define LOCKSTEP_GPU_MIN_BLOCKS 2
 #endif
-template <class F>
-__global__ void __launch_bounds__(kBlock, LOCKSTEP_GPU_MIN_BLOCKS) for_n_kernel_occupancy(int n, F f) {
+#ifndef LOCKSTEP_GPU_GATHER_BLOCKS
+#define LOCKSTEP_GPU_GATHER_BLOCKS 2
+#endif
+template <int MinBlocks, class F>
+__global__ void __launch_bounds__(kBlock, MinBlocks) for_n_kernel_bounded(int n, F f) {
   const int k = static_cast<int>(blockIdx.x * blockDim.x + threadIdx.x);
   if (k < n) f(k);
 }
 
 template <class F>
-constexpr bool kHeavy = std::is_same_v<F, GatherK> || std::is_same_v<F, PrepareK> || std::is_same_v<F, SolveK>;
+constexpr int kMinBlocks = std::is_same_v<F, GatherK>                                    ? LOCKSTEP_GPU_GATHER_BLOCKS
+                           : std::is_same_v<F, ContactsK> || std::is_same_v<F, SolveK> ? LOCKSTEP_GPU_MIN_BLOCKS
+                                                                                      : 0;
 
 class DeviceBackend {
  public:
@@ -91,7 +97,8 @@ class DeviceBackend {
   template <class F>
   void for_n(int n, const F& f) {
     if (n <= 0) return;
-    if constexpr (kHeavy<F>) for_n_kernel_occupancy<<<(n + kBlock - 1) / kBlock, kBlock, 0, stream_>>>(n, f);
+    if constexpr (kMinBlocks<F> > 0)
+      for_n_kernel_bounded<kMinBlocks<F>><<<(n + kBlock - 1) / kBlock, kBlock, 0, stream_>>>(n, f);
     else for_n_kernel<<<(n + kBlock - 1) / kBlock, kBlock, 0, stream_>>>(n, f);
     check(cudaGetLastError(), "kernel launch");
   }
@@ -131,6 +138,10 @@ class DeviceBackend {
   }
   template <class T>
   void fill_zero(T* p, std::size_t n) { check(cudaMemsetAsync(p, 0, n * sizeof(T), stream_), "memset"); }
+  template <class T>
+  void fill_minus_one(T* p, std::size_t n) {  // every bit set: each int member -1
+    check(cudaMemsetAsync(p, 0xff, n * sizeof(T), stream_), "memset");
+  }
   template <class T>
   void upload(T* dst, const T* src, std::size_t n) {
     if (n) check(cudaMemcpyAsync(dst, src, n * sizeof(T), cudaMemcpyHostToDevice, stream_), "upload");

@@ -67,6 +67,10 @@ class HostBackend {
   template <class T>
   void fill_zero(T* p, std::size_t n) { std::fill(p, p + n, T{}); }
   template <class T>
+  void fill_minus_one(T* p, std::size_t n) {  // every bit set: each int member -1
+    if (n) std::memset(static_cast<void*>(p), 0xff, n * sizeof(T));
+  }
+  template <class T>
   void upload(T* dst, const T* src, std::size_t n) { if (n) std::memcpy(static_cast<void*>(dst), src, n * sizeof(T)); }
   template <class T>
   void download(T* dst, const T* src, std::size_t n) { if (n) std::memcpy(static_cast<void*>(dst), src, n * sizeof(T)); }

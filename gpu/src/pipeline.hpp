@@ -111,9 +111,9 @@ class Pipeline final : public PipelineBase {
   struct Grid {
     Buf<unsigned> keys[2];
     Buf<int> vals[2];
-    Buf<int> start, end;
+    Buf<CellRange> range;
+    Buf<GridEntry> ent;
     Buf<CellEntry> ent_c;
-    Buf<F4> ent_p, ent_a;
     Buf<Bounds> bounds, reduced;
     Buf<GridParams> gp;
     bool present = false;
@@ -122,8 +122,8 @@ class Pipeline final : public PipelineBase {
     GridView view() {
       GridView v;
       if (!present) return v;
-      v.start = start.data(); v.end = end.data(); v.ent_c = ent_c.data(); v.ent_p = ent_p.data();
-      v.ent_a = ent_a.data(); v.gp = gp.data(); v.present = true;
+      v.range = range.data(); v.ent = ent.data(); v.ent_c = ent_c.data();
+      v.gp = gp.data(); v.present = true;
       return v;
     }
   };
@@ -137,7 +137,7 @@ class Pipeline final : public PipelineBase {
     const long long dense_limit = 8LL * members + 4096;
     const auto un = static_cast<std::size_t>(n);
     for (int b = 0; b < 2; ++b) { g.keys[b].resize(un); g.vals[b].resize(un); }
-    g.ent_p.resize(un); g.ent_a.resize(un); g.ent_c.resize(un);
+    g.ent.resize(un); g.ent_c.resize(un);
     g.reduced.resize(1); g.gp.resize(1);
     be_.reduce_bounds(g.bounds.data(), n, g.reduced.data());
     be_.for_n(1, GridParamsK{g.reduced.data(), sc_.P.contact_tolerance, dense_limit, hash_table, g.gp.data()});
@@ -146,13 +146,12 @@ class Pipeline final : public PipelineBase {
     be_.sync();
     int bits = 1;
     while (bits < 32 && (1ull << bits) <= gp.table) ++bits;  // the keys and the sentinel `table`
-    g.start.resize(gp.table);
-    g.end.resize(gp.table);
+    g.range.resize(gp.table);
     be_.for_n(n, GridKeysK{list, body_, large_flag_.data(), g.gp.data(), g.keys[0].data(), g.vals[0].data()});
     const int r = be_.sort_pairs(g.keys[0].data(), g.vals[0].data(), g.keys[1].data(), g.vals[1].data(), n, bits);
-    be_.fill_int(g.start.data(), -1, gp.table);
-    be_.for_n(n, CellTableK{g.keys[r].data(), g.vals[r].data(), n, body_, g.gp.data(), g.start.data(),
-                            g.end.data(), g.ent_c.data(), g.ent_p.data(), g.ent_a.data()});
+    be_.fill_minus_one(g.range.data(), gp.table);  // every cell empty
+    be_.for_n(n, CellTableK{g.keys[r].data(), g.vals[r].data(), n, body_, g.gp.data(), g.range.data(),
+                            g.ent.data(), g.ent_c.data()});
     g.present = true;
     g.dense = gp.dense != 0;
     g.cells = gp.table;
@@ -184,7 +183,10 @@ class Pipeline final : public PipelineBase {
   // Double-buffered by frame parity: this frame's contacts and last frame's (warm start, eq 96).
   Buf<int> nbr_[2], count_[2], slot_of_[2], stamp_[2];
   int stride_[2] = {16, 16};  // neighbour-list block per slot
-  Buf<F4> pair_a_[2], pair_b_[2], imm_a_[2], imm_b_[2];
+  Buf<ContactRecord> pair_[2], imm_[2];
+  Buf<int> ground_mask_[2];  // per slot: the ground corners in contact
+  Buf<unsigned> work_key_[2];  // the solver's thread order (WorkOrder), sorted from 0 into r
+  Buf<int> work_slot_[2];
   Buf<Counter> dir_count_;
   Buf<F4> sdf_c0_, sdf_c1_, support_n_;
   Buf<int> support_idx_;
@@ -285,58 +287,72 @@ void Pipeline<B>::step() {
   }
   const NeighbourLists nl = lists();
 
-  // 3: sorted neighbour lists, ground and SDF contacts, supports.
+  // 3 and 5 (preparation): sorted neighbour lists, contacts, supports; each
+  // contact prepared and the velocities warm-started into buffer 1.
   be_.mark(kStageContacts);
   const auto entries = static_cast<std::size_t>(n_active) * static_cast<std::size_t>(stride) + 1;
-  pair_a_[par].resize(entries);
-  pair_b_[par].resize(entries);
+  pair_[par].resize(entries);
   const auto imm = static_cast<std::size_t>(n_active) * static_cast<std::size_t>(sc_.imm_stride()) + 1;
-  imm_a_[par].resize(imm);
-  imm_b_[par].resize(imm);
-  if (n_active > 0)
-    be_.for_n(n_active, ContactsK{active, frame_, body_, sc_, nl, sdf_c0_.data(), sdf_c1_.data(), support_idx_.data(),
-                                  support_n_.data(), dir_count_.data(),
-                                  ContactIndex{slot_of_[par].data(), stamp_[par].data()}, ctr_.data()});
+  imm_[par].resize(imm);
+  ground_mask_[par].resize(static_cast<std::size_t>(n_active) + 1);
+  const SolverData d{active, body_, sc_, nl, dir_count_.data(), sdf_c0_.data(), sdf_c1_.data(),
+                     imm_[par].data(), pair_[par].data()};
+  const bool ordered = n_active >= opt_.work_order_min;
+  WorkOrder work;
+  if (ordered) {
+    for (int buf = 0; buf < 2; ++buf) {
+      work_key_[buf].resize(static_cast<std::size_t>(n_active));
+      work_slot_[buf].resize(static_cast<std::size_t>(n_active));
+    }
+    work = WorkOrder{work_key_[0].data(), work_slot_[0].data()};
+  }
+  if (n_active > 0) {
+    const PreviousContacts prev{frame_ - 1, slot_of_[pp].data(), stamp_[pp].data(),
+                                NeighbourLists{nbr_[pp].data(), count_[pp].data(), stride_[pp]}, imm_[pp].data(),
+                                ground_mask_[pp].data(), pair_[pp].data()};
+    be_.for_n(n_active, ContactsK{frame_, d, prev, ContactIndex{slot_of_[par].data(), stamp_[par].data()},
+                                  sdf_c0_.data(), sdf_c1_.data(), support_idx_.data(), support_n_.data(),
+                                  dir_count_.data(), ground_mask_[par].data(), work, vel_[1].data(), ang_[1].data(),
+                                  ctr_.data()});
+  }
 
-  // 5: solver: preparation and warm start into buffer 1, then the iterations
-  // alternate between buffers 1 and 2.
+  // 5: the solver's iterations alternate between buffers 1 and 2.
   be_.mark(kStageSolve);
   const int iterations = sc_.P.solver_iterations;
   int last = 1;
   if (n_active > 0) {
-    const SolverData d{active, body_, sc_, nl, dir_count_.data(), sdf_c0_.data(), sdf_c1_.data(),
-                       imm_a_[par].data(), imm_b_[par].data(), pair_a_[par].data(), pair_b_[par].data()};
-    const PreviousContacts prev{frame_ - 1, slot_of_[pp].data(), stamp_[pp].data(),
-                                NeighbourLists{nbr_[pp].data(), count_[pp].data(), stride_[pp]}, imm_a_[pp].data(),
-                                pair_a_[pp].data()};
-    be_.for_n(n_active, PrepareK{d, prev, vel_[1].data(), ang_[1].data(), ctr_.data()});
+    const int* order = nullptr;
+    if (ordered && iterations > 0) {
+      const int r = be_.sort_pairs(work_key_[0].data(), work_slot_[0].data(), work_key_[1].data(),
+                                   work_slot_[1].data(), n_active, work_key_bits(n_active));
+      order = work_slot_[r].data();
+    }
     for (int it = 0; it < iterations; ++it) {
       const int in = it % 2 == 0 ? 1 : 2, out = 3 - in;
-      be_.for_n(n_active, SolveK{d, vel_[in].data(), ang_[in].data(), vel_[out].data(), ang_[out].data(), ctr_.data()});
+      be_.for_n(n_active, SolveK{d, order, vel_[in].data(), ang_[in].data(), vel_[out].data(), ang_[out].data(),
+                                 ctr_.data()});
       last = out;
     }
   }
 
-  // 6: settling sweeps.
+  // 6: settling sweeps but the last (which runs with the correction).
   be_.mark(kStageSettle);
+  SettleSweep sweep{support_idx_.data(), support_n_.data(), vel_[last].data(), vel_[last].data()};
   if (fx_.settling && n_active > 0) {
     const int sweeps = std::max(1, opt_.settle_passes);
-    const F4* sin = vel_[last].data();
-    for (int s = 0; s < sweeps; ++s) {
-      F4* sout = s + 1 < sweeps ? settle_[s % 2].data() : nullptr;
-      be_.for_n(n_active, SettleK{active, body_, sc_, support_idx_.data(), support_n_.data(), vel_[last].data(),
-                                  ang_[last].data(), sin, sout, ctr_.data()});
-      sin = sout;
+    for (int s = 0; s + 1 < sweeps; ++s) {
+      F4* sout = settle_[s % 2].data();
+      be_.for_n(n_active, SettleK{active, body_, sc_, sweep, sout});
+      sweep.sin = sout;
     }
   }
 
-  // 7-8: position correction and integration.
+  // 6 (last sweep), 7-8: final velocities, position correction and integration.
   be_.mark(kStageCorrect);
-  const int vsrc = (fx_.settling || n_active == 0) ? 0 : last;
   if (n_active > 0) {
-    be_.for_n(n_active, CorrectIntegrateK{active, body_, sc_, nl, sdf_c0_.data(), sdf_c1_.data(), imm_b_[par].data(),
-                                          pair_b_[par].data(), vel_[vsrc].data(), ang_[vsrc].data(), p_tmp_.data(),
-                                          q_tmp_.data(), ctr_.data()});
+    be_.for_n(n_active, CorrectIntegrateK{active, body_, sc_, nl, sdf_c0_.data(), sdf_c1_.data(), imm_[par].data(),
+                                          pair_[par].data(), vel_[last].data(), ang_[last].data(), fx_.settling,
+                                          sweep, p_tmp_.data(), q_tmp_.data(), ctr_.data()});
   }
   counters_.integrate_position += static_cast<std::uint64_t>(n_active);
 

@@ -76,6 +76,27 @@ LS_HD inline void store_min(int* target, int v) {
 #endif
 }
 
+// A load from an array that no thread of the running kernel writes: on the
+// device through the read-only data path (ld.global.nc), which lets the
+// compiler issue it ahead of the kernel's stores (more loads in flight);
+// a plain load in the host build. Only the data path differs, never the value.
+LS_HD inline F4 ro(const F4* p) {
+#if defined(__CUDA_ARCH__)
+  const float4 v = __ldg(reinterpret_cast<const float4*>(p));
+  return F4{v.x, v.y, v.z, v.w};
+#else
+  return *p;
+#endif
+}
+template <class T>
+LS_HD inline T ro(const T* p) {
+#if defined(__CUDA_ARCH__)
+  return __ldg(p);
+#else
+  return *p;
+#endif
+}
+
 // ---------------------------------------------------------------------------
 // Grids. Each member body is filed under the cell of its centre; entries are
 // sorted by cell key and a table gives each occupied cell its range [start,
@@ -129,12 +150,47 @@ struct alignas(16) CellEntry {
   int x, y, z, body;
 };
 
+// What the gather reads of a sorted grid entry, in one 32-byte sector.
+struct alignas(32) GridEntry {
+  float px, py, pz;  // centre (m)
+  int body;
+  float ax, ay, az;  // AABB half extents (m)
+  float unused;
+};
+LS_HD inline CellEntry ro(const CellEntry* e) {
+#if defined(__CUDA_ARCH__)
+  const int4 u = __ldg(reinterpret_cast<const int4*>(e));
+  return CellEntry{u.x, u.y, u.z, u.w};
+#else
+  return *e;
+#endif
+}
+LS_HD inline GridEntry ro(const GridEntry* e) {
+#if defined(__CUDA_ARCH__)
+  const float4 u = __ldg(reinterpret_cast<const float4*>(e)), v = __ldg(reinterpret_cast<const float4*>(e) + 1);
+  return GridEntry{u.x, u.y, u.z, __float_as_int(u.w), v.x, v.y, v.z, v.w};
+#else
+  return *e;
+#endif
+}
+
+// A cell's range [start, end) of sorted entries; start = -1: empty.
+struct alignas(8) CellRange {
+  int start, end;
+};
+LS_HD inline CellRange ro(const CellRange* r) {
+#if defined(__CUDA_ARCH__)
+  const int2 u = __ldg(reinterpret_cast<const int2*>(r));
+  return CellRange{u.x, u.y};
+#else
+  return *r;
+#endif
+}
+
 struct GridView {
-  const int* start = nullptr;
-  const int* end = nullptr;
-  const CellEntry* ent_c = nullptr;  // sorted entries: cell and body
-  const F4* ent_p = nullptr;         // centre
-  const F4* ent_a = nullptr;         // AABB half extents
+  const CellRange* range = nullptr;  // per table entry
+  const GridEntry* ent = nullptr;    // sorted entries: centre, body, AABB
+  const CellEntry* ent_c = nullptr;  // their cells (hashed grids only)
   const GridParams* gp = nullptr;
   bool present = false;
 };
@@ -196,16 +252,17 @@ LS_HD void visit_candidates(const GridView& g, int self, const Vec3<float>& p, c
         const int row = (x * gp.dims[1] + y) * gp.dims[2];
         int s = -1, e = -1;
         for (int z = lo[2]; z <= hi[2]; ++z) {  // consecutive cells: one range of entries
-          const int cs = g.start[row + z];
-          if (cs < 0) continue;
-          if (s < 0) s = cs;
-          e = g.end[row + z];
+          // Both loads issued at once (an empty cell's end is not used).
+          const CellRange c = ro(g.range + row + z);
+          if (c.start < 0) continue;
+          if (s < 0) s = c.start;
+          e = c.end;
         }
         for (int t = s; t < e; ++t) {
-          const int j = g.ent_c[t].body;
-          if (j == self) continue;
+          const GridEntry en = ro(g.ent + t);
+          if (en.body == self) continue;
           ++tested;
-          fn(j, xyz(g.ent_p[t]), xyz(g.ent_a[t]));
+          fn(en.body, Vec3<float>{en.px, en.py, en.pz}, Vec3<float>{en.ax, en.ay, en.az});
         }
       }
     return;
@@ -214,15 +271,16 @@ LS_HD void visit_candidates(const GridView& g, int self, const Vec3<float>& p, c
     for (int y = lo[1]; y <= hi[1]; ++y)
       for (int z = lo[2]; z <= hi[2]; ++z) {
         const unsigned h = grid_key(gp, x, y, z);
-        const int s = g.start[h];
+        const CellRange c = ro(g.range + h);
+        const int s = c.start, e = c.end;
         if (s < 0) continue;
-        const int e = g.end[h];
         for (int t = s; t < e; ++t) {
-          const CellEntry c = g.ent_c[t];
+          const CellEntry c = ro(g.ent_c + t);
           if (c.x != x || c.y != y || c.z != z) continue;  // another cell with the same hash
           if (c.body == self) continue;
           ++tested;
-          fn(c.body, xyz(g.ent_p[t]), xyz(g.ent_a[t]));
+          const GridEntry en = ro(g.ent + t);
+          fn(c.body, Vec3<float>{en.px, en.py, en.pz}, Vec3<float>{en.ax, en.ay, en.az});
         }
       }
 }
@@ -255,7 +313,13 @@ LS_HD inline PairContact<float> canonical_pair(const SceneConsts& sc, int self, 
   return self < j ? pair_contact(p, a, pj, aj, sc.half_tol, tol) : pair_contact(pj, aj, p, a, sc.half_tol, tol);
 }
 
-// Per-contact solver state in two F4s: {j_n, j_t} and {v_n0, e, mu, k_n}.
+// Per-contact solver state in two F4s: {j_n, j_t} (accumulated, rewritten by
+// each iteration) and {v_n0, e, mu, k_n} (fixed when the solve starts), side
+// by side in one 32-byte sector.
+struct alignas(32) ContactRecord {
+  F4 a, b;
+};
+
 LS_HD inline ContactState<float> load_state(const F4& a, const F4& b) {
   ContactState<float> c;
   c.j_n = a.x;
@@ -339,22 +403,20 @@ struct CellTableK {
   int n;
   BodyArrays b;
   const GridParams* gp;
-  int* start;
-  int* end;
-  CellEntry* ent_c;
-  F4* ent_p;
-  F4* ent_a;
+  CellRange* range;
+  GridEntry* ent;
+  CellEntry* ent_c;  // written for hashed grids only
   LS_HD void operator()(int s) const {
     const unsigned key = keys[s];
     if (key == gp->table) return;  // not a member
     const int i = vals[s];
     const F4 p = b.pos[i];
     const float inv = gp->inv_cell;
-    ent_c[s] = CellEntry{cell_coord(p.x, inv), cell_coord(p.y, inv), cell_coord(p.z, inv), i};
-    ent_p[s] = p;
-    ent_a[s] = b.aabb[i];
-    if (s == 0 || keys[s - 1] != key) start[key] = s;
-    if (s == n - 1 || keys[s + 1] != key) end[key] = s + 1;
+    const F4 a = b.aabb[i];
+    ent[s] = GridEntry{p.x, p.y, p.z, i, a.x, a.y, a.z, 0.0f};
+    if (gp->dense == 0) ent_c[s] = CellEntry{cell_coord(p.x, inv), cell_coord(p.y, inv), cell_coord(p.z, inv), i};
+    if (s == 0 || keys[s - 1] != key) range[key].start = s;
+    if (s == n - 1 || keys[s + 1] != key) range[key].end = s + 1;
   }
 };
 
@@ -391,9 +453,9 @@ struct GatherK {
   int* n_woken;
   Counter* ctr;
   LS_HD void operator()(int k) const {
-    const int i = list[k];
+    const int i = ro(list + k);
     const int slot = slot0 + k;
-    const Vec3<float> p = xyz(b.pos[i]), a = xyz(b.aabb[i]);
+    const Vec3<float> p = xyz(ro(b.pos + i)), a = xyz(ro(b.aabb + i));
     int* out = lists.nbr + slot * lists.stride;
     unsigned tested = 0, contacts = 0;
     int m = 0;
@@ -410,9 +472,9 @@ struct GatherK {
         if (m < lists.stride) out[m] = j;
         ++m;
         ++contacts;
-        if (count_work && sc.sleep && (b.flags[j] & kFlagAsleep) != 0) {
+        if (count_work && sc.sleep && (ro(b.flags + j) & kFlagAsleep) != 0) {
           const bool i_is_a = i < j;
-          const Vec3<float> vi = xyz(b.vel[i]), vj = xyz(b.vel[j]);
+          const Vec3<float> vi = xyz(ro(b.vel + i)), vj = xyz(ro(b.vel + j));
           if (wake_test(i_is_a ? vi : vj, !i_is_a, i_is_a ? vj : vi, i_is_a, c.n, c.penetration, sc.P) &&
               claim_flag(&wake_flag[j]))
             woken[fetch_add(n_woken, 1)] = j;
@@ -422,7 +484,7 @@ struct GatherK {
       for (int t = 0; t < sc.n_large; ++t) {
         const int j = sc.large[t];
         ++tested;
-        other(j, xyz(b.pos[j]), xyz(b.aabb[j]));
+        other(j, xyz(ro(b.pos + j)), xyz(ro(b.aabb + j)));
       }
     }
     lists.count[slot] = m < lists.stride ? m : lists.stride;
@@ -481,97 +543,29 @@ struct ContactIndex {
   int* stamp;    // per body: frame at which slot_of was written
 };
 
-// Stage 3: each active body sorts its neighbour list (ascending index),
-// computes its SDF sample contacts and its support: the touching contacts
-// whose normal towards it is within acos(support_normal_min) of up, taken in
-// World<T>'s contact order (ground corners, SDF samples, bodies by index);
-// the first is the support, the normalised sum of their normals the support
-// normal (98). Also counts its contacts with other active bodies per normal
-// direction (for the Jacobi mass splitting).
-struct ContactsK {
-  const int* list;
-  int frame;
-  BodyArrays b;
-  SceneConsts sc;
-  NeighbourLists lists;
-  F4* sdf_c0;  // per slot, volume and sample: n, penetration
-  F4* sdf_c1;  // contact point, hit (1/0)
-  int* support_idx;
-  F4* support_n;
-  Counter* dir_count;
-  ContactIndex index;
-  Counter* ctr;
-  LS_HD void operator()(int k) const {
-    const int i = list[k];
-    const Vec3<float> p = xyz(b.pos[i]), a = xyz(b.aabb[i]);
-    int* nbr = lists.nbr;
-    const int beg = lists.begin(k), m = lists.count[k];
-    for (int s = 1; s < m; ++s) {  // insertion sort: ascending body index
-      const int x = nbr[beg + s];
-      int t = s - 1;
-      while (t >= 0 && nbr[beg + t] > x) { nbr[beg + t + 1] = nbr[beg + t]; --t; }
-      nbr[beg + t + 1] = x;
-    }
-    index.slot_of[i] = k;
-    index.stamp[i] = frame;
-    const Mat3<float> R = rotation_matrix(quat(b.rot[i]));
-    const Vec3<float> h = xyz(b.half[i]);
-    const Vec3<float> up{0.0f, 1.0f, 0.0f};
-    // Support contacts: touching to within slop with a normal towards the
-    // body within acos(support_normal_min) of up; the support normal is the
-    // normalised sum of their normals, the support the first of them.
-    int support = kNoSupport;
-    Vec3<float> support_sum{};
-    auto add_support = [&](int who, const Vec3<float>& n) {
-      if (support == kNoSupport) support = who;
-      support_sum += n;
-    };
-    const float tol = sc.P.contact_tolerance, min_up = sc.P.support_normal_min, slop = sc.P.slop;
-    unsigned ground_contacts = 0, sdf_contacts = 0;
-    if (sc.ground_on) {
-      for (int c = 0; c < 8; ++c) {
-        Vec3<float> corner;
-        const float depth = ground_corner_depth(p, R, h, c, sc.ground_y, corner);
-        if (!(depth > -tol)) continue;
-        ++ground_contacts;
-        if (depth > -slop && up.y >= min_up) add_support(kStaticSupport, up);
-      }
-    }
-    for (int v = 0; v < sc.n_sdf; ++v) {
-      for (int s = 0; s < 9; ++s) {
-        const SdfContact<float> c = sdf_sample_contact(p, R, h, sc.sdf[v], s, tol);
-        const int e = (k * sc.n_sdf + v) * 9 + s;
-        sdf_c0[e] = f4(c.n, c.penetration);
-        sdf_c1[e] = f4(c.point, c.hit ? 1.0f : 0.0f);
-        if (!c.hit) continue;
-        ++sdf_contacts;
-        if (c.penetration > -slop && c.n.y >= min_up) add_support(kStaticSupport, c.n);
-      }
-    }
-    Counter directions = 0;
-    for (int t = 0; t < m; ++t) {
-      const int j = nbr[beg + t];
-      const PairContact<float> c = canonical_pair(sc, i, p, a, j, xyz(b.pos[j]), xyz(b.aabb[j]));
-      const Vec3<float> n = i < j ? c.n : -c.n;
-      const int shift = 8 * direction_of(n);
-      if (is_awake(b.flags[j]) && ((directions >> shift) & 255u) < 255u) directions += Counter{1} << shift;
-      if (!(c.penetration > -slop)) continue;
-      if (n.y >= min_up) add_support(j, n);
-    }
-    dir_count[i] = directions;
-    const Vec3<float> support_normal = support != kNoSupport ? normalize(support_sum) : Vec3<float>{};
-    support_idx[i] = support;
-    support_n[i] = f4(support_normal, 0.0f);
-    add_counter(&ctr[kCGroundContacts], ground_contacts);
-    add_counter(&ctr[kCSdfContacts], sdf_contacts);
-  }
-};
+// c ? x : y, one float at a time (a select of whole structs can put them in
+// local memory).
+LS_HD inline float pick(bool c, float x, float y) { return c ? x : y; }
+LS_HD inline Vec3<float> pick(bool c, const Vec3<float>& x, const Vec3<float>& y) {
+  return {pick(c, x.x, y.x), pick(c, x.y, y.y), pick(c, x.z, y.z)};
+}
+LS_HD inline BodyView<float> pick(bool c, const BodyView<float>& x, const BodyView<float>& y) {
+  BodyView<float> r;
+  r.v = pick(c, x.v, y.v);
+  r.w = pick(c, x.w, y.w);
+  r.inv_mass = pick(c, x.inv_mass, y.inv_mass);
+  for (int row = 0; row < 3; ++row) r.R.row[row] = pick(c, x.R.row[row], y.R.row[row]);
+  r.inv_inertia = pick(c, x.inv_inertia, y.inv_inertia);
+  return r;
+}
 
-// The contact-side view of body j (dynamic when awake, else immovable).
+// The contact-side view of body j (dynamic when awake, else immovable). For
+// kernels that write none of the arrays it reads.
 LS_HD inline BodyView<float> view_of(const BodyArrays& b, int j, const F4* vel, const F4* ang) {
-  if (!is_awake(b.flags[j])) return immovable_view<float>();
-  const F4 pj = b.pos[j];
-  return dynamic_view(xyz(vel[j]), xyz(ang[j]), pj.w, rotation_matrix(quat(b.rot[j])), xyz(b.inert[j]));
+  if (!is_awake(ro(b.flags + j))) return immovable_view<float>();
+  const F4 pj = ro(b.pos + j);
+  return dynamic_view(xyz(ro(vel + j)), xyz(ro(ang + j)), pj.w, rotation_matrix(quat(ro(b.rot + j))),
+                      xyz(ro(b.inert + j)));
 }
 
 // Everything the solver kernels share.
@@ -583,10 +577,8 @@ struct SolverData {
   const Counter* dir_count;
   const F4* sdf_c0;
   const F4* sdf_c1;
-  F4* imm_a;  // immovable contacts' state, imm_stride() per slot
-  F4* imm_b;
-  F4* pair_a;  // body-body contacts' state, one per neighbour-list entry (each body keeps its own copy)
-  F4* pair_b;
+  ContactRecord* imm;   // immovable contacts' state, imm_stride() per slot
+  ContactRecord* pair;  // body-body contacts' state, one per neighbour-list entry (each body keeps its own copy)
 };
 
 // Last frame's contacts, for the warm start (eq 96): the accumulated normal
@@ -596,108 +588,213 @@ struct PreviousContacts {
   const int* slot_of;
   const int* stamp;
   NeighbourLists lists;
-  const F4* imm_a;
-  const F4* pair_a;
-  LS_HD bool had(int i) const { return stamp[i] == frame; }
-  // The accumulated impulses of pair (i, j), from the lower body's copy when
-  // it was active last frame, else the higher's (both copies are equal when
-  // both were); j_n = 0 when there is none.
-  LS_HD F4 pair(int i, int j) const {
-    int owner = i < j ? i : j, other = i < j ? j : i;
-    if (!had(owner)) { const int t = owner; owner = other; other = t; }
-    if (!had(owner)) return F4{};
-    const int slot = slot_of[owner];
-    const int end = lists.end(slot);
+  const ContactRecord* imm;
+  const int* ground_mask;  // per slot: bit c set when ground corner c was a contact
+  const ContactRecord* pair;
+  LS_HD bool had(int i) const { return ro(stamp + i) == frame; }
+  // The accumulated impulses of pair (i, j) from j's copy (j active last
+  // frame); j_n = 0 when there is none.
+  LS_HD F4 from(int j, int i) const {
+    if (!had(j)) return F4{};
+    const int slot = ro(slot_of + j);
+    const int end = lists.begin(slot) + ro(lists.count + slot);
     int lo = lists.begin(slot), hi = end;
     while (lo < hi) {  // binary search in the ascending list
       const int mid = lo + (hi - lo) / 2;
-      if (lists.nbr[mid] < other) lo = mid + 1;
+      if (ro(lists.nbr + mid) < i) lo = mid + 1;
       else hi = mid;
     }
-    return (lo < end && lists.nbr[lo] == other) ? pair_a[lo] : F4{};
+    return (lo < end && ro(lists.nbr + lo) == i) ? ro(&pair[lo].a) : F4{};
   }
 };
 
-// Stage 5, first kernel: the solver's preparation of every contact of the
-// body (eqs 48-50, 58, 76, 86) with the velocities before the warm start,
-// then the warm start (eq 96) of its own velocity, in World<T>'s contact
-// order. Reads b.vel/b.ang, writes vout/wout.
-struct PrepareK {
+// The solver's threads in an order of their work (a scheduling choice: each
+// slot's result does not depend on the thread that computes it). A warp runs
+// the union of its threads' paths, so within each segment of 2^11 consecutive
+// slots, slots with contacts with immovable things (a manifold to solve) are
+// put together, then ordered by the length of their neighbour lists. Whole
+// segments keep their place, so that the memory a segment touches stays in
+// the cache while its threads run. The key of a slot, sorted with the slots
+// as values (stable: ascending slots within a class).
+struct WorkOrder {
+  unsigned* key = nullptr;
+  int* slot = nullptr;
+};
+inline constexpr int kWorkClassBits = 5, kWorkSegmentBits = 11;
+LS_HD inline unsigned work_key(int slot, unsigned immovable_contacts, int neighbours) {
+  const unsigned m = neighbours < 15 ? static_cast<unsigned>(neighbours) : 15u;
+  const unsigned segment = static_cast<unsigned>(slot) >> kWorkSegmentBits;
+  return (segment << kWorkClassBits) | (immovable_contacts > 0 ? 0u : 16u) | m;
+}
+// The key bits to sort for n slots.
+inline int work_key_bits(int n) {
+  int bits = kWorkClassBits;
+  for (unsigned s = static_cast<unsigned>(n - 1) >> kWorkSegmentBits; s != 0; s >>= 1) ++bits;
+  return bits;
+}
+
+// Stages 3 and 5 (preparation): each active body
+// - sorts its neighbour list (ascending index);
+// - finds its contacts in World<T>'s order (ground corners, SDF samples,
+//   bodies by index) and its support: the touching contacts whose normal
+//   towards it is within acos(support_normal_min) of up; the first is the
+//   support, the normalised sum of their normals the support normal (98);
+// - counts its contacts with other active bodies per normal direction (the
+//   Jacobi mass splitting);
+// - prepares each contact for the solver (eqs 48-50, 58, 76, 86) with the
+//   velocities before the warm start, then warm-starts (eq 96) its own
+//   velocity, in that order. Reads b.vel/b.ang, writes vout/wout.
+//
+// Warm start of a body-body contact: World<T> keeps one cached impulse per
+// pair; here each active body kept its own copy last frame, and the two
+// copies of a pair whose bodies were both active are equal (both bodies
+// prepare, warm-start and solve the contact with the same arguments, body 1
+// the lower index). So the body's own copy is used when it was active last
+// frame (found by walking its previous list, ascending like the current
+// one, alongside), else the other body's copy. A ground corner that was no
+// contact last frame has no cached impulse (its slot is not written).
+struct ContactsK {
+  int frame;
   SolverData d;
   PreviousContacts prev;
+  ContactIndex index;
+  F4* sdf_c0;  // per slot, volume and sample: n, penetration
+  F4* sdf_c1;  // contact point, hit (1/0)
+  int* support_idx;
+  F4* support_n;
+  Counter* dir_count;
+  int* ground_mask;  // this frame's, per slot
+  WorkOrder order;   // keys for the solver's thread order, or none
   F4* vout;
   F4* wout;
   Counter* ctr;
   LS_HD void operator()(int k) const {
     const BodyArrays& b = d.b;
     const SceneConsts& sc = d.sc;
-    const int i = d.list[k];
-    const F4 pi4 = b.pos[i], h4 = b.half[i], in4 = b.inert[i];
-    const Vec3<float> p = xyz(pi4), a = xyz(b.aabb[i]), h = xyz(h4);
-    const Mat3<float> R = rotation_matrix(quat(b.rot[i]));
-    const Vec3<float> v0 = xyz(b.vel[i]), w0 = xyz(b.ang[i]);
+    const int i = ro(d.list + k);
+    int* nbr = d.lists.nbr;
+    const int beg = d.lists.begin(k), m = d.lists.count[k];
+    for (int s = 1; s < m; ++s) {  // insertion sort: ascending body index
+      const int x = nbr[beg + s];
+      int t = s - 1;
+      while (t >= 0 && nbr[beg + t] > x) { nbr[beg + t + 1] = nbr[beg + t]; --t; }
+      nbr[beg + t + 1] = x;
+    }
+    index.slot_of[i] = k;
+    index.stamp[i] = frame;
+    const F4 pi4 = ro(b.pos + i), h4 = ro(b.half + i), in4 = ro(b.inert + i);
+    const Vec3<float> p = xyz(pi4), a = xyz(ro(b.aabb + i)), h = xyz(h4);
+    const Mat3<float> R = rotation_matrix(quat(ro(b.rot + i)));
+    const Vec3<float> v0 = xyz(ro(b.vel + i)), w0 = xyz(ro(b.ang + i));
     const BodyView<float> self0 = dynamic_view(v0, w0, pi4.w, R, xyz(in4));
     BodyView<float> self = self0;  // warm-started velocity
-    const float e_self = h4.w, mu_self = in4.w, tol = sc.P.contact_tolerance;
+    const float e_self = h4.w, mu_self = in4.w;
+    const float tol = sc.P.contact_tolerance, min_up = sc.P.support_normal_min, slop = sc.P.slop;
     const bool had = prev.had(i);
-    const int prev_slot = had ? prev.slot_of[i] : 0;
+    const int prev_slot = had ? ro(prev.slot_of + i) : 0;
     const int stride = sc.imm_stride();
     SolveCounts counts;
+    unsigned ground_contacts = 0, sdf_contacts = 0;
     const Vec3<float> zero{};
     const Vec3<float> up{0.0f, Num<float>::from_int(1), 0.0f};
-    auto immovable = [&](int e, const Vec3<float>& r1, const Vec3<float>& n, float e2, float mu2) {
+    int support = kNoSupport;
+    Vec3<float> support_sum{};
+    auto add_support = [&](int who, const Vec3<float>& n) {
+      if (support == kNoSupport) support = who;
+      support_sum += n;
+    };
+    // A contact with an immovable thing: its preparation and warm start.
+    auto immovable = [&](int e, const Vec3<float>& r1, const Vec3<float>& n, float e2, float mu2, bool cached_ok) {
       BodyView<float> B = immovable_view<float>();
       ContactState<float> c = prepare_contact(self0, r1, B, zero, n, e_self, mu_self, e2, mu2, sc.restitution,
                                               sc.friction, sc.P, counts);
-      const F4 cached = had ? prev.imm_a[prev_slot * stride + e] : F4{};
+      const F4 cached = cached_ok ? ro(&prev.imm[prev_slot * stride + e].a) : F4{};
       if (cached.x > 0.0f) warm_start_contact(self, r1, B, zero, n, c, cached.x);
-      store_state(c, d.imm_a[k * stride + e], d.imm_b[k * stride + e]);
+      store_state(c, d.imm[k * stride + e].a, d.imm[k * stride + e].b);
     };
-    auto none = [&](int e) { d.imm_a[k * stride + e] = F4{}; d.imm_b[k * stride + e] = F4{}; };
     if (sc.ground_on) {
+      const int prev_mask = had ? ro(prev.ground_mask + prev_slot) : 0;
+      int mask = 0;
       for (int c = 0; c < 8; ++c) {
         Vec3<float> corner;
-        if (ground_corner_depth(p, R, h, c, sc.ground_y, corner) > -tol) immovable(c, corner - p, up, sc.ground_e, sc.ground_mu);
-        else none(c);
+        const float depth = ground_corner_depth(p, R, h, c, sc.ground_y, corner);
+        if (!(depth > -tol)) continue;
+        ++ground_contacts;
+        if (depth > -slop && up.y >= min_up) add_support(kStaticSupport, up);
+        mask |= 1 << c;
+        immovable(c, corner - p, up, sc.ground_e, sc.ground_mu, ((prev_mask >> c) & 1) != 0);
       }
+      ground_mask[k] = mask;
     }
     for (int v = 0; v < sc.n_sdf; ++v) {
       const F4 mat = sc.sdf_material[v];
       for (int s = 0; s < 9; ++s) {
+        const SdfContact<float> c = sdf_sample_contact(p, R, h, sc.sdf[v], s, tol);
         const int g = (k * sc.n_sdf + v) * 9 + s;
+        const F4 c0 = f4(c.n, c.penetration), c1 = f4(c.point, c.hit ? 1.0f : 0.0f);
+        sdf_c0[g] = c0;
+        sdf_c1[g] = c1;
         const int e = sc.ground_slots() + 9 * v + s;
-        const F4 c1 = d.sdf_c1[g];
-        if (c1.w != 0.0f) immovable(e, xyz(c1) - p, xyz(d.sdf_c0[g]), mat.x, mat.y);
-        else none(e);
+        if (!c.hit) {
+          d.imm[k * stride + e] = ContactRecord{};
+          continue;
+        }
+        ++sdf_contacts;
+        if (c.penetration > -slop && c.n.y >= min_up) add_support(kStaticSupport, c.n);
+        immovable(e, xyz(c1) - p, xyz(c0), mat.x, mat.y, had);
       }
     }
-    const int beg = d.lists.begin(k), end = d.lists.end(k);
-    for (int t = beg; t < end; ++t) {
-      const int j = d.lists.nbr[t];
-      const F4 pj4 = b.pos[j];
+    Counter directions = 0;
+    int q = had ? prev.lists.begin(prev_slot) : 0;  // walks the previous list
+    const int q_end = had ? q + ro(prev.lists.count + prev_slot) : 0;
+    for (int t = beg; t < beg + m; ++t) {
+      const int j = nbr[t];
+      const F4 pj4 = ro(b.pos + j);
       const Vec3<float> pj = xyz(pj4);
       const bool lower = i < j;
-      const PairContact<float> pc = canonical_pair(sc, i, p, a, j, pj, xyz(b.aabb[j]));
+      const PairContact<float> pc = canonical_pair(sc, i, p, a, j, pj, xyz(ro(b.aabb + j)));
+      const Vec3<float> n_i = lower ? pc.n : -pc.n;  // towards body i
+      const int shift = 8 * direction_of(n_i);
+      if (is_awake(ro(b.flags + j)) && ((directions >> shift) & 255u) < 255u) directions += Counter{1} << shift;
+      if (pc.penetration > -slop && n_i.y >= min_up) add_support(j, n_i);
       const BodyView<float> other0 = view_of(b, j, b.vel, b.ang);
       const Vec3<float> r1 = pc.point - (lower ? p : pj), r2 = pc.point - (lower ? pj : p);
-      const float e_o = b.half[j].w, mu_o = b.inert[j].w;
-      // Body 1 is the lower index; the branches keep the views in registers.
+      const float e_o = ro(b.half + j).w, mu_o = ro(b.inert + j).w;
+      // Body 1 is the lower index (one call for either order: the threads of a
+      // warp stay together).
       SolveCounts here;
-      ContactState<float> c =
-          lower ? prepare_contact(self0, r1, other0, r2, pc.n, e_self, mu_self, e_o, mu_o, sc.restitution, sc.friction, sc.P, here)
-                : prepare_contact(other0, r1, self0, r2, pc.n, e_o, mu_o, e_self, mu_self, sc.restitution, sc.friction, sc.P, here);
+      ContactState<float> c = prepare_contact(pick(lower, self0, other0), r1, pick(lower, other0, self0), r2, pc.n,
+                                              lower ? e_self : e_o, lower ? mu_self : mu_o, lower ? e_o : e_self,
+                                              lower ? mu_o : mu_self, sc.restitution, sc.friction, sc.P, here);
       if (lower || other0.inv_mass == 0.0f) counts.restitution_bounces += here.restitution_bounces;
-      const F4 cached = prev.pair(i, j);
-      if (cached.x > 0.0f) {
-        BodyView<float> other = other0;
-        if (lower) warm_start_contact(self, r1, other, r2, pc.n, c, cached.x);
-        else warm_start_contact(other, r1, self, r2, pc.n, c, cached.x);
+      F4 cached{};
+      if (had) {
+        int mq = q < q_end ? ro(prev.lists.nbr + q) : 0;
+        while (q < q_end && mq < j) { ++q; mq = q < q_end ? ro(prev.lists.nbr + q) : 0; }
+        if (q < q_end && mq == j) cached = ro(&prev.pair[q].a);
+      } else {
+        cached = prev.from(j, i);
       }
-      store_state(c, d.pair_a[t], d.pair_b[t]);
+      if (cached.x > 0.0f) {
+        BodyView<float> A = pick(lower, self, other0), B = pick(lower, other0, self);
+        warm_start_contact(A, r1, B, r2, pc.n, c, cached.x);
+        self.v = pick(lower, A.v, B.v);
+        self.w = pick(lower, A.w, B.w);
+      }
+      store_state(c, d.pair[t].a, d.pair[t].b);
     }
+    dir_count[i] = directions;
+    support_idx[i] = support;
+    support_n[i] = f4(support != kNoSupport ? normalize(support_sum) : Vec3<float>{}, 0.0f);
     vout[i] = f4(self.v, 0.0f);
     wout[i] = f4(self.w, 0.0f);
+    add_counter(&ctr[kCGroundContacts], ground_contacts);
+    add_counter(&ctr[kCSdfContacts], sdf_contacts);
     add_counter(&ctr[kCRestitutionBounces], counts.restitution_bounces);
+    if (order.key != nullptr) {
+      order.key[k] = work_key(k, ground_contacts + sdf_contacts, m);
+      order.slot[k] = k;
+    }
   }
 };
 
@@ -713,20 +810,22 @@ struct PrepareK {
 // splitting) over the relaxation.
 struct SolveK {
   SolverData d;
+  const int* order;  // thread -> slot (WorkOrder), or null: thread k is slot k
   const F4* vin;
   const F4* win;
   F4* vout;
   F4* wout;
   Counter* ctr;
-  LS_HD void operator()(int k) const {
+  LS_HD void operator()(int thread) const {
     const BodyArrays& b = d.b;
     const SceneConsts& sc = d.sc;
-    const int i = d.list[k];
-    const F4 pi4 = b.pos[i], h4 = b.half[i];
-    const Vec3<float> p = xyz(pi4), a = xyz(b.aabb[i]), h = xyz(h4);
-    const Mat3<float> R = rotation_matrix(quat(b.rot[i]));
-    const Vec3<float> I = xyz(b.inert[i]);
-    const Vec3<float> v0 = xyz(vin[i]), w0 = xyz(win[i]);
+    const int k = order != nullptr ? ro(order + thread) : thread;
+    const int i = ro(d.list + k);
+    const F4 pi4 = ro(b.pos + i), h4 = ro(b.half + i);
+    const Vec3<float> p = xyz(pi4), a = xyz(ro(b.aabb + i)), h = xyz(h4);
+    const Mat3<float> R = rotation_matrix(quat(ro(b.rot + i)));
+    const Vec3<float> I = xyz(ro(b.inert + i));
+    const Vec3<float> v0 = xyz(ro(vin + i)), w0 = xyz(ro(win + i));
     BodyView<float> self = dynamic_view(v0, w0, pi4.w, R, I);
     const float tol = sc.P.contact_tolerance;
     const int stride = sc.imm_stride();
@@ -736,11 +835,14 @@ struct SolveK {
     // points' state is read and written where it lives.
     BodyView<float> env = immovable_view<float>();
     auto loader = [&](int base) {
-      return [&, base](int e) { return load_state(d.imm_a[k * stride + base + e], d.imm_b[k * stride + base + e]); };
+      return [&, base](int e) {
+        const ContactRecord& r = d.imm[k * stride + base + e];
+        return load_state(r.a, r.b);
+      };
     };
     auto storer = [&](int base) {
       return [&, base](int e, const ContactState<float>& c) {
-        d.imm_a[k * stride + base + e] = F4{c.j_n, c.j_t.x, c.j_t.y, c.j_t.z};
+        d.imm[k * stride + base + e].a = F4{c.j_n, c.j_t.x, c.j_t.y, c.j_t.z};
       };
     };
     if (sc.ground_on) {
@@ -757,7 +859,7 @@ struct SolveK {
       const int base = sc.ground_slots() + 9 * v;
       auto sample = [&](int s, Vec3<float>& r1, Vec3<float>& n, float& penetration) {
         const int g = (k * sc.n_sdf + v) * 9 + s;
-        const F4 c1 = d.sdf_c1[g], c0 = d.sdf_c0[g];
+        const F4 c1 = ro(d.sdf_c1 + g), c0 = ro(d.sdf_c0 + g);
         r1 = xyz(c1) - p;
         n = xyz(c0);
         penetration = c0.w;
@@ -768,34 +870,40 @@ struct SolveK {
     Vec3<float> dv{}, dw{};
     const int beg = d.lists.begin(k), end = d.lists.end(k);
     for (int t = beg; t < end; ++t) {
-      const int j = d.lists.nbr[t];
-      const F4 pj4 = b.pos[j];
+      const int j = ro(d.lists.nbr + t);
+      const F4 pj4 = ro(b.pos + j);
       const Vec3<float> pj = xyz(pj4);
       const bool lower = i < j;
-      const PairContact<float> pc = canonical_pair(sc, i, p, a, j, pj, xyz(b.aabb[j]));
+      const PairContact<float> pc = canonical_pair(sc, i, p, a, j, pj, xyz(ro(b.aabb + j)));
       const Vec3<float> r1 = pc.point - (lower ? p : pj), r2 = pc.point - (lower ? pj : p);
-      ContactState<float> c = load_state(d.pair_a[t], d.pair_b[t]);
-      // Body 1 is the lower index; the branches keep the views in registers.
-      if (!is_awake(b.flags[j])) {  // immovable: sequential on the body's own velocity
-        BodyView<float> other = immovable_view<float>();
-        if (lower) solve_contact(self, r1, other, r2, pc.n, pc.penetration, c, sc.friction, sc.gravity, 1.0f, sc.P, counts);
-        else solve_contact(other, r1, self, r2, pc.n, pc.penetration, c, sc.friction, sc.gravity, 1.0f, sc.P, counts);
-      } else {  // Jacobi
-        BodyView<float> me = dynamic_view(v0, w0, pi4.w, R, I);
-        BodyView<float> other = view_of(b, j, vin, win);
-        const float split = jacobi_split(d.dir_count[i], d.dir_count[j], lower ? pc.n : -pc.n, sc.relaxation);
-        SolveCounts here;
-        if (lower) solve_contact(me, r1, other, r2, pc.n, pc.penetration, c, sc.friction, sc.gravity, split, sc.P, here);
-        else solve_contact(other, r1, me, r2, pc.n, pc.penetration, c, sc.friction, sc.gravity, split, sc.P, here);
-        if (lower) {
-          counts.solver_contacts += here.solver_contacts;
-          counts.normal_impulses += here.normal_impulses;
-          counts.friction_steps += here.friction_steps;
-        }
-        dv += me.v - v0;
-        dw += me.w - w0;
+      ContactState<float> c = load_state(d.pair[t].a, d.pair[t].b);
+      // One call of solve_contact for every kind of pair (the threads of a
+      // warp stay together): body 1 is the lower index; an immovable j is
+      // solved on the body's own current velocity (self), an active j
+      // (Jacobi) on both bodies' velocities at the start of the iteration.
+      const bool jacobi = is_awake(ro(b.flags + j));
+      BodyView<float> me = self;
+      if (jacobi) { me.v = v0; me.w = w0; }
+      const BodyView<float> other = view_of(b, j, vin, win);
+      const float split =
+          jacobi ? jacobi_split(ro(d.dir_count + i), ro(d.dir_count + j), lower ? pc.n : -pc.n, sc.relaxation) : 1.0f;
+      BodyView<float> A = pick(lower, me, other), B = pick(lower, other, me);
+      SolveCounts here;
+      solve_contact(A, r1, B, r2, pc.n, pc.penetration, c, sc.friction, sc.gravity, split, sc.P, here);
+      const Vec3<float> mv = pick(lower, A.v, B.v), mw = pick(lower, A.w, B.w);
+      if (jacobi) {
+        dv += mv - v0;
+        dw += mw - w0;
+      } else {
+        self.v = mv;
+        self.w = mw;
       }
-      d.pair_a[t] = F4{c.j_n, c.j_t.x, c.j_t.y, c.j_t.z};
+      if (lower || !jacobi) {
+        counts.solver_contacts += here.solver_contacts;
+        counts.normal_impulses += here.normal_impulses;
+        counts.friction_steps += here.friction_steps;
+      }
+      d.pair[t].a = F4{c.j_n, c.j_t.x, c.j_t.y, c.j_t.z};
     }
     vout[i] = f4(self.v + dv, 0.0f);
     wout[i] = f4(self.w + dw, 0.0f);
@@ -806,53 +914,55 @@ struct SolveK {
 };
 
 // ---------------------------------------------------------------------------
-// Stage 6: one settling sweep. World<T> settles supported bodies lowest first
+// Stage 6: settling sweeps. World<T> settles supported bodies lowest first
 // (height, then index), so eq 75 sees a lower support's settled velocity and
 // a higher one's unsettled velocity. Sweep k reads the supports' values of
-// sweep k-1 (sin; sweep 0 reads the solver's result) and writes sout; after
-// as many sweeps as the longest chain of supports, the result is World<T>'s.
-// The last sweep also settles the angular velocity and writes the state.
+// sweep k-1 (sin; sweep 0 reads the solver's result) and writes its own;
+// after as many sweeps as the longest chain of supports, the result is
+// World<T>'s. The last sweep, which also settles the angular velocity (eqs
+// 64-74), runs in CorrectIntegrateK.
+struct SettleSweep {
+  const int* support_idx;
+  const F4* support_n;
+  const F4* vpost;  // solver result
+  const F4* sin;    // the previous sweep's (sweep 0: vpost)
+  // Eqs 75, 77 on v (the solver's velocity of body i); returns |v| after eq 75
+  // (what righting uses), or a negative value for a body with no support
+  // (v unchanged).
+  LS_HD float linear(const BodyArrays& b, int i, const Params<float>& P, Vec3<float>& v) const {
+    const int s = ro(support_idx + i);
+    if (s == kNoSupport) return -1.0f;
+    Vec3<float> v_s{};
+    if (s >= 0 && is_awake(ro(b.flags + s))) {
+      const float ys = ro(b.pos + s).y, yi = ro(b.pos + i).y;
+      const bool lower = ys < yi || (ys == yi && s < i);
+      v_s = (lower && ro(support_idx + s) != kNoSupport) ? xyz(ro(sin + s)) : xyz(ro(vpost + s));
+    }
+    return settle_linear_velocity(v, v_s, xyz(ro(support_n + i)), P);  // eqs 75, 77
+  }
+};
+
+// One settling sweep but the last: the linear velocity of every supported body.
 struct SettleK {
   const int* list;
   BodyArrays b;
   SceneConsts sc;
-  const int* support_idx;
-  const F4* support_n;
-  const F4* vpost;  // solver result
-  const F4* wpost;
-  const F4* sin;
-  F4* sout;  // null on the last sweep
-  Counter* ctr;
+  SettleSweep sweep;
+  F4* sout;
   LS_HD void operator()(int k) const {
-    const int i = list[k];
-    const int s = support_idx[i];
-    const bool last = sout == nullptr;
-    if (s == kNoSupport) {
-      if (last) { b.vel[i] = vpost[i]; b.ang[i] = wpost[i]; }
-      return;
-    }
-    Vec3<float> v = xyz(vpost[i]);
-    Vec3<float> v_s{};
-    if (s >= 0 && is_awake(b.flags[s])) {
-      const float ys = b.pos[s].y, yi = b.pos[i].y;
-      const bool lower = ys < yi || (ys == yi && s < i);
-      v_s = (lower && support_idx[s] != kNoSupport) ? xyz(sin[s]) : xyz(vpost[s]);
-    }
-    const Vec3<float> n = xyz(support_n[i]);
-    const float speed = settle_linear_velocity(v, v_s, n, sc.P);  // eqs 75, 77
-    if (!last) { sout[i] = f4(v, 0.0f); return; }
-    const Mat3<float> R = rotation_matrix(quat(b.rot[i]));
-    b.vel[i] = f4(v, 0.0f);
-    b.ang[i] = f4(settle_angular_velocity(xyz(wpost[i]), R, n, speed, sc.P), 0.0f);  // eqs 64-74
-    add_counter(&ctr[kCSettlingBodies], 1u);
+    const int i = ro(list + k);
+    Vec3<float> v = xyz(ro(sweep.vpost + i));
+    if (sweep.linear(b, i, sc.P, v) >= 0.0f) sout[i] = f4(v, 0.0f);
   }
 };
 
 // ---------------------------------------------------------------------------
-// Stages 7-8: position correction (eqs 63, 89) from the contacts of the frame
-// (measured at the start-of-frame positions), then integration (eqs 2, 7-10).
-// Results go to per-slot buffers, committed by the next kernel, since other
-// threads read the start-of-frame positions.
+// Stages 6 (the last settling sweep), 7-8: the final velocity (the
+// solver's, settled when settling is on: eqs 75, 77, 64-74), position
+// correction (eqs 63, 89) from the contacts of the frame (measured at the
+// start-of-frame positions), then integration (eqs 2, 7-10). Poses go to
+// per-slot buffers, committed by the next kernel, since other threads read
+// the start-of-frame positions.
 struct CorrectIntegrateK {
   const int* list;
   BodyArrays b;
@@ -860,25 +970,53 @@ struct CorrectIntegrateK {
   NeighbourLists lists;
   const F4* sdf_c0;
   const F4* sdf_c1;
-  const F4* imm_b;   // the contacts' solver state: y is e_eff (eq 76); a bouncing contact is not corrected
-  const F4* pair_b;
-  const F4* vfinal;  // final velocities (b.vel, or the solver's buffer when settling is off)
-  const F4* wfinal;
+  const ContactRecord* imm;   // the contacts' solver state: b.y is e_eff (eq 76); a bouncing contact is not corrected
+  const ContactRecord* pair;
+  const F4* vpost;  // the solver's velocities
+  const F4* wpost;
+  bool settle;       // settling on: the last sweep
+  SettleSweep sweep;
   F4* p_out;
   F4* q_out;
   Counter* ctr;
   LS_HD void operator()(int k) const {
-    const int i = list[k];
-    const F4 pi4 = b.pos[i];
-    const Vec3<float> p0 = xyz(pi4), a = xyz(b.aabb[i]);
+    const int i = ro(list + k);
+    const F4 pi4 = ro(b.pos + i);
+    const Vec3<float> p0 = xyz(pi4), a = xyz(ro(b.aabb + i));
     const float inv_self = pi4.w;
     Vec3<float> p = p0, dummy{};
-    const Quat<float> q0 = quat(b.rot[i]);
+    const Quat<float> q0 = quat(ro(b.rot + i));
+    Vec3<float> vf = xyz(ro(vpost + i)), wf = xyz(ro(wpost + i));
+    if (settle) {
+      const float speed = sweep.linear(b, i, sc.P, vf);  // eqs 75, 77
+      if (speed >= 0.0f) {
+        wf = settle_angular_velocity(wf, rotation_matrix(q0), xyz(ro(sweep.support_n + i)), speed, sc.P);  // eqs 64-74
+        add_counter(&ctr[kCSettlingBodies], 1u);
+      }
+    }
+    b.vel[i] = f4(vf, 0.0f);
+    b.ang[i] = f4(wf, 0.0f);
     unsigned corrections = 0;
     const float slop = sc.P.slop, percent = sc.P.baumgarte, tol = sc.P.contact_tolerance;
+    // eq 89's order: the body pairs first, then the ground and SDF contacts
+    // with their penetration less what the pairs moved this body along n.
+    const int beg = lists.begin(k), end = lists.end(k);
+    for (int t = beg; t < end; ++t) {
+      const int j = ro(lists.nbr + t);
+      const F4 pj4 = ro(b.pos + j);
+      const bool j_awake = is_awake(ro(b.flags + j));
+      const float inv_j = j_awake ? pj4.w : 0.0f;
+      const bool lower = i < j;
+      const PairContact<float> c = canonical_pair(sc, i, p0, a, j, xyz(pj4), xyz(ro(b.aabb + j)));
+      const float inv_a = lower ? inv_self : inv_j, inv_b = lower ? inv_j : inv_self;
+      if (ro(&pair[t].b).y > 0.0f || (inv_a == 0.0f && inv_b == 0.0f)) continue;
+      if (lower) baumgarte_correction(p, dummy, c.n, c.penetration, inv_a, inv_b, slop, percent);
+      else baumgarte_correction(dummy, p, c.n, c.penetration, inv_a, inv_b, slop, percent);
+      if (lower || !j_awake) ++corrections;
+    }
     if (sc.ground_on) {  // the deepest corner (first on ties) carries the correction
       const Mat3<float> R = rotation_matrix(q0);
-      const Vec3<float> h = xyz(b.half[i]);
+      const Vec3<float> h = xyz(ro(b.half + i));
       int deepest = -1;
       float deepest_depth = 0.0f;
       for (int c = 0; c < 8; ++c) {
@@ -887,9 +1025,9 @@ struct CorrectIntegrateK {
         if (!(depth > -tol)) continue;
         if (deepest < 0 || depth > deepest_depth) { deepest = c; deepest_depth = depth; }
       }
-      if (deepest >= 0 && !(imm_b[k * sc.imm_stride() + deepest].y > 0.0f) && inv_self != 0.0f) {
+      if (deepest >= 0 && !(ro(&imm[k * sc.imm_stride() + deepest].b).y > 0.0f) && inv_self != 0.0f) {
         const Vec3<float> up{0.0f, Num<float>::from_int(1), 0.0f};
-        baumgarte_correction(p, dummy, up, deepest_depth, inv_self, 0.0f, slop, percent);
+        baumgarte_correction(p, dummy, up, deepest_depth - dot(p - p0, up), inv_self, 0.0f, slop, percent);
         ++corrections;
       }
     }
@@ -900,30 +1038,15 @@ struct CorrectIntegrateK {
         if (sdf_c1[g].w == 0.0f) continue;
         if (deepest < 0 || sdf_c0[g].w > sdf_c0[deepest].w) { deepest = g; deepest_s = s; }
       }
-      if (deepest < 0 || imm_b[k * sc.imm_stride() + sc.ground_slots() + 9 * v + deepest_s].y > 0.0f ||
+      if (deepest < 0 || imm[k * sc.imm_stride() + sc.ground_slots() + 9 * v + deepest_s].b.y > 0.0f ||
           inv_self == 0.0f)
         continue;
       const F4 c0 = sdf_c0[deepest];
-      baumgarte_correction(p, dummy, xyz(c0), c0.w, inv_self, 0.0f, slop, percent);
+      baumgarte_correction(p, dummy, xyz(c0), c0.w - dot(p - p0, xyz(c0)), inv_self, 0.0f, slop, percent);
       ++corrections;
     }
-    const int beg = lists.begin(k), end = lists.end(k);
-    for (int t = beg; t < end; ++t) {
-      const int j = lists.nbr[t];
-      const F4 pj4 = b.pos[j];
-      const bool j_awake = is_awake(b.flags[j]);
-      const float inv_j = j_awake ? pj4.w : 0.0f;
-      const bool lower = i < j;
-      const PairContact<float> c = canonical_pair(sc, i, p0, a, j, xyz(pj4), xyz(b.aabb[j]));
-      const float inv_a = lower ? inv_self : inv_j, inv_b = lower ? inv_j : inv_self;
-      if (pair_b[t].y > 0.0f || (inv_a == 0.0f && inv_b == 0.0f)) continue;
-      if (lower) baumgarte_correction(p, dummy, c.n, c.penetration, inv_a, inv_b, slop, percent);
-      else baumgarte_correction(dummy, p, c.n, c.penetration, inv_a, inv_b, slop, percent);
-      if (lower || !j_awake) ++corrections;
-    }
-    if (vfinal != b.vel) { b.vel[i] = vfinal[i]; b.ang[i] = wfinal[i]; }
     Quat<float> q = q0;
-    integrate_pose(p, q, xyz(vfinal[i]), xyz(wfinal[i]), sc.P);  // eqs 2, 7-10
+    integrate_pose(p, q, vf, wf, sc.P);  // eqs 2, 7-10
     p_out[k] = f4(p, inv_self);
     q_out[k] = f4(q);
     add_counter(&ctr[kCCorrections], corrections);

@@ -1,7 +1,8 @@
-// Stages 1 and 8 of docs/SPEC.md 7.2: velocity and position integration.
+// Stages 1 and 8 of docs/SPEC.md 7.2: velocity and position integration, one
+// call per awake body of the per-body steps in physics/body_step.hpp.
 #pragma once
 #include "lockstep/physics/aabb.hpp"
-#include "lockstep/physics/integrate.hpp"
+#include "lockstep/physics/body_step.hpp"
 #include "lockstep/world.hpp"
 
 namespace lockstep {
@@ -13,15 +14,9 @@ void World<T>::integrate_velocities() {
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     Body<T>& b = bodies_[i];
     if (!b.awake()) continue;
-    if (fx.gravity) {
-      b.v = apply_gravity(b.v, P_.gravity_dt);  // eqs 1, 5
-      ++counters_.integrate_velocity;
-    }
-    if (fx.damping) {
-      b.v = apply_damping(b.v, P_.linear_damping_factor);   // eq 6
-      b.w = apply_damping(b.w, P_.angular_damping_factor);  // eq 13
-      ++counters_.damping;
-    }
+    integrate_velocity(b.v, b.w, fx.gravity, fx.damping, P_);  // eqs 1, 5, 6, 13
+    if (fx.gravity) ++counters_.integrate_velocity;
+    if (fx.damping) ++counters_.damping;
     check_faults(static_cast<int>(i), "velocity (gravity, damping)");
   }
 }
@@ -31,8 +26,7 @@ void World<T>::integrate_positions() {
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     Body<T>& b = bodies_[i];
     if (!b.awake()) continue;
-    b.p = integrate_position(b.p, b.v, P_.dt);        // eq 2
-    b.q = integrate_orientation(b.q, b.w, P_.half_dt);  // eqs 7-10
+    integrate_pose(b.p, b.q, b.v, b.w, P_);  // eqs 2, 7-10
     update_derived(b);
     ++counters_.integrate_position;
     check_faults(static_cast<int>(i), "position/orientation");

@@ -3,36 +3,32 @@
 #pragma once
 #include <vector>
 
-#include "lockstep/physics/aabb.hpp"
-#include "lockstep/physics/contact.hpp"
-#include "lockstep/physics/sdf.hpp"
-#include "lockstep/physics/sleep.hpp"
+#include "lockstep/physics/narrow.hpp"
 #include "lockstep/world.hpp"
 
 namespace lockstep {
-
 
 template <class T>
 void World<T>::narrow_phase() {
   contacts_.clear();
   std::vector<Contact<T>> pair_contacts;
   const T half_tol = P_.contact_tolerance * Num<T>::from_double(0.5);
+  const T tol = half_tol + half_tol;  // the two growths together
   // Body against body, pairs in ascending (i, j) order.
   for (const auto& [i, j] : pairs_) {
     const Body<T>& A = bodies_[static_cast<std::size_t>(i)];
     const Body<T>& B = bodies_[static_cast<std::size_t>(j)];
     ++counters_.pairs_tested;
-    // eqs 38-43 on boxes grown by half the contact tolerance each (eq 97):
+    // eqs 38-43, 85 on boxes grown by half the contact tolerance each (eq 97):
     // pairs up to contact_tolerance apart are speculative contacts.
-    const Vec3<T> grow{half_tol, half_tol, half_tol};
-    const Overlap<T> o = aabb_overlap(A.p, A.aabb_half + grow, B.p, B.aabb_half + grow);
-    if (!o.hit) continue;
+    const PairContact<T> pc = pair_contact(A.p, A.aabb_half, B.p, B.aabb_half, half_tol, tol);
+    if (!pc.hit) continue;
     Contact<T> c;
     c.a = i;
     c.b = j;
-    c.n = o.normal;
-    c.penetration = o.penetration - (half_tol + half_tol);  // the true overlap (negative: a gap)
-    c.point = aabb_contact_point(A.p, A.aabb_half, B.p, B.aabb_half, Num<T>::from_double(0.5));  // eq 85
+    c.n = pc.n;
+    c.penetration = pc.penetration;  // the true overlap (negative: a gap)
+    c.point = pc.point;
     pair_contacts.push_back(c);
     ++counters_.body_contacts;
     check_faults(i, "body contact");
@@ -50,8 +46,8 @@ void World<T>::narrow_phase() {
       int first = static_cast<int>(contacts_.size());
       int deepest = -1;
       for (int k = 0; k < 8; ++k) {
-        const Vec3<T> corner = box_corner(b.p, b.R, b.half, k);
-        const T depth = ground_y_ - corner.y;
+        Vec3<T> corner;
+        const T depth = ground_corner_depth(b.p, b.R, b.half, k, ground_y_, corner);  // eq 84
         if (!(depth > -P_.contact_tolerance)) continue;  // eq 97: speculative within the tolerance
         Contact<T> c;
         c.a = static_cast<int>(i);
@@ -78,23 +74,17 @@ void World<T>::narrow_phase() {
         const int first = static_cast<int>(contacts_.size());
         int deepest = -1;
         for (int s = 0; s < 9; ++s) {
-          const Vec3<T> pt = s < 8 ? box_corner(b.p, b.R, b.half, s) : b.p;
-          const T radius = s < 8 ? T{} : Num<T>::min(b.half.x, Num<T>::min(b.half.y, b.half.z));
-          if (!sdf_contains(g, pt)) continue;
-          const T dist = sdf_distance(g, pt);  // eq 33
-          const T pen = radius - dist;         // eq 35
-          if (!(pen > -P_.contact_tolerance)) continue;  // eq 97
-          const Vec3<T> grad = sdf_gradient(g, pt);  // eq 34
-          if (length(grad) == T{}) continue;
+          const SdfContact<T> sc = sdf_sample_contact(b.p, b.R, b.half, g, s, P_.contact_tolerance);  // eqs 33-37, 97
+          if (!sc.hit) continue;
           Contact<T> c;
           c.a = static_cast<int>(i);
           c.b = -2 - static_cast<int>(k);
-          c.n = normalize(grad);         // eq 36
-          c.point = pt - c.n * dist;     // eq 37
-          c.penetration = pen;
+          c.n = sc.n;
+          c.point = sc.point;
+          c.penetration = sc.penetration;
           c.corrects = false;
           c.feature = s;
-          if (deepest < 0 || pen > contacts_[static_cast<std::size_t>(deepest)].penetration)
+          if (deepest < 0 || sc.penetration > contacts_[static_cast<std::size_t>(deepest)].penetration)
             deepest = static_cast<int>(contacts_.size());
           contacts_.push_back(c);
           ++counters_.sdf_contacts;

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <vector>
 
-#include "lockstep/physics/settle.hpp"
+#include "lockstep/physics/body_step.hpp"
 #include "lockstep/world.hpp"
 
 namespace lockstep {
@@ -32,12 +32,8 @@ void World<T>::settle() {
     const int other = c.a == idx ? c.b : c.a;
     const Vec3<T> v_support = (other >= 0 && bodies_[static_cast<std::size_t>(other)].awake())
                                   ? bodies_[static_cast<std::size_t>(other)].v : Vec3<T>{};
-    b.v = cancel_resting_velocity(b.v, v_support, n, P_.rest_speed);  // eq 75
-    const T speed = length(b.v);
-    const Alignment<T> al = alignment_of(b.R, n);     // eqs 64-66 (65 fixed), up = support normal
-    b.w = righting(b.w, al, n, speed, P_);            // eqs 67-71
-    b.w = regime_damping(b.w, al.alignment, P_);      // eqs 72-74
-    b.v = settle_linear(b.v, speed, P_);              // eq 77
+    const T speed = settle_linear_velocity(b.v, v_support, n, P_);  // eqs 75, 77
+    b.w = settle_angular_velocity(b.w, b.R, n, speed, P_);          // eqs 64-74, up = support normal
     check_faults(idx, "settling");
   }
 }

@@ -1,8 +1,6 @@
 // Stages 4 and 9 of docs/SPEC.md 7.2: wake (5.1, eq 81) and sleep (4.7, eqs 78-80).
 #pragma once
-#include "lockstep/physics/contact.hpp"
-#include "lockstep/physics/settle.hpp"
-#include "lockstep/physics/sleep.hpp"
+#include "lockstep/physics/body_step.hpp"
 #include "lockstep/world.hpp"
 
 namespace lockstep {
@@ -20,8 +18,7 @@ void World<T>::wake_touched(const std::vector<Contact<T>>& pair_contacts) {
     if (sleeper == nullptr) continue;
     const Body<T>& other = sleeper == &A ? B : A;
     if (!other.awake()) continue;  // a sleeper touched by a sleeper or a static body
-    const Vec3<T> v_rel = (A.asleep ? Vec3<T>{} : A.v) - (B.asleep ? Vec3<T>{} : B.v);
-    if (wakes(dot(v_rel, c.n), c.penetration, P_)) {
+    if (wake_test(A.v, A.asleep, B.v, B.asleep, c.n, c.penetration, P_)) {
       sleeper->asleep = false;
       sleeper->sleep_counter = 0;
       ++counters_.wakes;
@@ -36,22 +33,10 @@ void World<T>::update_sleep() {
     if (!b.awake()) continue;
     ++counters_.sleep_updates;
     const bool supported = support_[i] >= 0;
-    const T speed = length(b.v), spin = length(b.w);
-    const Alignment<T> al = alignment_of(b.R, supported ? support_normal(i) : Vec3<T>{T{}, Num<T>::from_int(1), T{}});
-    if (sleep_candidate(supported, speed, spin, al.alignment, P_)) ++b.sleep_counter;  // eq 78
-    else b.sleep_counter = 0;
-    switch (sleep_stage(b.sleep_counter, P_.drowsy_frames, P_.sleep_frames)) {
-      case SleepStage::kAsleep:  // eq 80
-        b.v = Vec3<T>{};
-        b.w = Vec3<T>{};
-        b.asleep = true;
-        b.sleep_frame = frame_;
-        break;
-      case SleepStage::kDrowsy:  // eq 79
-        b.v = b.v * P_.drowsy_damping;
-        b.w = b.w * P_.drowsy_damping;
-        break;
-      case SleepStage::kAwake: break;
+    const Vec3<T> up = supported ? support_normal(i) : Vec3<T>{T{}, Num<T>::from_int(1), T{}};
+    if (lockstep::update_sleep(b.v, b.w, b.sleep_counter, supported, b.R, up, P_)) {  // eqs 78-80
+      b.asleep = true;
+      b.sleep_frame = frame_;
     }
     check_faults(static_cast<int>(i), "sleep");
   }

@@ -46,9 +46,18 @@ symbolizer=$(command -v llvm-symbolizer || command -v llvm-symbolizer-14 || true
 echo "run_fuzz.sh: $fuzzer for ${seconds}s; corpus $corpus; seeds ${seeds[*]}"
 # -timeout: one input taking over 10 s is a hang; -rss_limit_mb: over 2 GB is a
 # finding; -max_len: scenes of up to 8 KiB.
+# libFuzzer exits non-zero on a finding; the status is kept (not left to
+# set -e) so that the summary below is printed either way.
+started=$build/fuzz-started
+touch "$started"
+set +e
 "$fuzzer" "$corpus" "${seeds[@]}" -dict="$root/tests/fuzz/scene.dict" -max_total_time="$seconds" \
   -timeout=10 -rss_limit_mb=2048 -max_len=8192 -print_final_stats=1 -artifact_prefix="$artifacts/" \
   2>&1 | tee "$build/fuzz.log"
 status=${PIPESTATUS[0]}
-echo "run_fuzz.sh: exit $status; corpus now $(find "$corpus" -type f | wc -l) files; findings in $artifacts: $(find "$artifacts" -type f | wc -l)"
+set -e
+findings=$(find "$artifacts" -type f -newer "$started" | wc -l)
+echo "run_fuzz.sh: exit $status; corpus now $(find "$corpus" -type f | wc -l) files; new findings in $artifacts: $findings"
+# A file this run wrote to the artifacts folder is a finding even if the fuzzer exited 0.
+[ "$status" -eq 0 ] && [ "$findings" -gt 0 ] && status=1
 exit "$status"

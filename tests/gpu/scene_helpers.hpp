@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "lockstep/builtin_scenes.hpp"
+#include "lockstep/compare/engine.hpp"
 #include "lockstep/fixed/q16_vec.hpp"
 #include "lockstep/gpu/gpu_engine.hpp"
 #include "lockstep/world.hpp"
@@ -51,16 +52,7 @@ inline int face_up(const BodySnapshot& b) {
 
 // World<T>::body(i) as the EngineRun snapshot (converted to double).
 template <class T>
-BodySnapshot snapshot(const World<T>& w, int i) {
-  const Body<T>& b = w.body(i);
-  auto d = [](const T& x) { return Num<T>::to_double(x); };
-  return {{d(b.p.x), d(b.p.y), d(b.p.z)},
-          {d(b.q.w), d(b.q.x), d(b.q.y), d(b.q.z)},
-          {d(b.v.x), d(b.v.y), d(b.v.z)},
-          {d(b.w.x), d(b.w.y), d(b.w.z)},
-          b.asleep,
-          b.asleep ? b.sleep_frame : -1};
-}
+BodySnapshot snapshot(const World<T>& w, int i) { return snapshot_of(w.body(i)); }
 
 inline double distance(const BodySnapshot& a, const BodySnapshot& b) {
   return std::sqrt((a.p[0] - b.p[0]) * (a.p[0] - b.p[0]) + (a.p[1] - b.p[1]) * (a.p[1] - b.p[1]) +

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <map>
+#include <stdexcept>
 #include <string>
 
 #include "lockstep/builtin_scenes.hpp"
@@ -182,6 +183,23 @@ TEST(VectorsPerturbed, FormulaOutputNamesTheTestAndField) {
   FAIL() << "no two_body_impulse group";
 }
 
+TEST(VectorsPerturbed, ManifoldImpulseNamesTheTestAndPoint) {
+  Json doc = generate_formulas();
+  for (Json& g : doc["testGroups"]) {
+    if (g["function"] != "manifold_visit") continue;
+    for (Json& t : g["tests"]) {
+      if (t["out"]["points"].size() < 3) continue;
+      t["out"]["points"][2]["j_n"] = t["out"]["points"][2]["j_n"].get<std::int64_t>() + 1;
+      const Verdict v = verify_formulas(doc, "formulas.json");
+      ASSERT_FALSE(v.ok);
+      EXPECT_EQ(v.tc_id, t["tcId"].get<long>());
+      EXPECT_EQ(v.field, "out.points[2].j_n");
+      return;
+    }
+  }
+  FAIL() << "no manifold_visit case with 3 points";
+}
+
 TEST(VectorsPerturbed, SceneStateNamesFrameBodyAndField) {
   Json doc = generate_scene_vectors(*builtin_scene("stack5"));
   // Frame 50, body 3, p.y (field 1) one ulp off, as a port that diverged there would have it.
@@ -318,6 +336,66 @@ TEST(VectorsGenerator, EveryArithmeticOperationAndFormulaHasCases) {
   ASSERT_EQ(f["testGroups"].size(), formula_functions().size());
   for (const Json& g : f["testGroups"])
     EXPECT_GE(g["tests"].size(), g["function"] == "params" ? 2u : 20u) << g["function"];
+}
+
+// The formula group's test of the given comment.
+const Json& formula_case(const Json& doc, const std::string& function, const std::string& comment) {
+  for (const Json& g : doc["testGroups"])
+    if (g["function"] == function)
+      for (const Json& t : g["tests"])
+        if (t["comment"] == comment) return t;
+  throw std::runtime_error("no " + function + " case '" + comment + "'");
+}
+
+// eq 97, independently of the engine's code: touching contacts target the
+// bounce -e v (v = min(v_n0, 0), floored product); a contact with a gap never
+// targets more than that bounce (a bounce from a gap adds no energy) and,
+// when it does not bounce, targets penetration / dt.
+TEST(VectorsGenerator, TargetVelocityCasesFollowEq97) {
+  const Json f = generate_formulas();
+  int touching = 0, bounced = 0, open = 0;
+  for (const Json& g : f["testGroups"]) {
+    if (g["function"] != "contact_target_velocity") continue;
+    const std::int64_t inv_dt = g["shared"]["inv_dt"];
+    for (const Json& t : g["tests"]) {
+      const std::int64_t pen = t["in"]["penetration"], e = t["in"]["e"], v_n0 = t["in"]["v_n0"];
+      const std::int64_t v = std::min<std::int64_t>(v_n0, 0);
+      const std::int64_t bounce = -((e * v) >> 16);  // -(e * v) in Q16: floor, then negate
+      const std::int64_t target = t["out"]["target"];
+      if (pen >= 0) {
+        EXPECT_EQ(target, bounce) << t["tcId"];
+        ++touching;
+      } else if (target == ((pen * inv_dt) >> 16)) {
+        ++open;
+      } else {
+        EXPECT_GE(target, 0) << t["tcId"];
+        EXPECT_LE(target, bounce) << t["tcId"];
+        ++bounced;
+      }
+    }
+  }
+  EXPECT_GT(touching, 3);
+  EXPECT_GT(bounced, 3);
+  EXPECT_GT(open, 3);
+}
+
+// eq 99, independently of the engine's code: a body landing level with its
+// bottom corners gets, in total, the impulse that stops its fall (m dv) from
+// one visit, however many corners touch; without the split factor the 4
+// corners of the tall box would push 3.8 times too hard, the 8 sunk corners
+// of the cube 2 times.
+TEST(VectorsGenerator, ManifoldSplitSharesOneImpulse) {
+  const Json f = generate_formulas();
+  const Json& flat = formula_case(f, "manifold_visit", "unit cube flat: o = 1 exactly, split 1");
+  const std::int64_t fall = -flat["in"]["a"]["v"][1].get<std::int64_t>();  // m = 1 kg: m dv = -v_y
+  for (const char* comment : {"unit cube flat: o = 1 exactly, split 1", "unit cube, all 8 corners sunk: o = 2",
+                              "tall thin box (0.2 x 2 x 0.2 m) standing: o about 3.8"}) {
+    const Json& t = formula_case(f, "manifold_visit", comment);
+    std::int64_t total = 0;
+    for (const Json& pt : t["out"]["points"]) total += pt["j_n"].get<std::int64_t>();
+    EXPECT_NEAR(static_cast<double>(total), static_cast<double>(fall), 8.0) << comment;
+    EXPECT_NEAR(static_cast<double>(t["out"]["a"]["v"][1].get<std::int64_t>()), 0.0, 8.0) << comment;
+  }
 }
 
 TEST(VectorsGenerator, EdgeCasesRaiseTheirFlags) {

@@ -4,6 +4,8 @@
 // generation and verification.
 #include "lockstep/vectors/formulas.hpp"
 
+#include <algorithm>
+#include <array>
 #include <functional>
 
 #include "lockstep/physics/aabb.hpp"
@@ -13,7 +15,10 @@
 #include "lockstep/physics/sdf.hpp"
 #include "lockstep/physics/settle.hpp"
 #include "lockstep/physics/sleep.hpp"
+#include "lockstep/physics/solver.hpp"
 #include "lockstep/vectors/params_json.hpp"
+#include "lockstep/vectors/scenes.hpp"
+#include "lockstep/vectors/sdf_json.hpp"
 #include "lockstep/world.hpp"
 
 namespace lockstep::vectors {
@@ -35,18 +40,11 @@ struct Formula {
   Fn compute;
 };
 
-M identity() {
-  const Q16 one = Q16::from_raw(kOne);
-  return {{{one, Q16{}, Q16{}}, {Q16{}, one, Q16{}}, {Q16{}, Q16{}, one}}};
-}
+M identity() { return identity3<Q16>(); }
 
 // An immovable contact side (ground, SDF, static or sleeping body): v = w = 0,
-// m^-1 = 0, I^-1 = 0, R = identity (SPEC 0.1).
-View immovable() {
-  View v;
-  v.R = identity();
-  return v;
-}
+// m^-1 = 0, I^-1 = 0, R = identity (SPEC 0.1), as the solver builds it.
+View immovable() { return immovable_view<Q16>(); }
 
 View view_at(In in, const std::string& key, const std::string& path) {
   const Json& b = member(in, key, path);
@@ -176,6 +174,71 @@ Json f_ground_impulse(In in, const std::string& p) {
 Json f_two_body_impulse(In in, const std::string& p) {
   return normal_step(view_at(in, "a", p), view_at(in, "b", p), in, p);
 }
+// eq 97 as the solver calls it: v_n0 is first clamped to <= 0 (only an
+// approaching contact bounces, the fix of 3.1).
+Json f_contact_target_velocity(In in, const std::string& p) {
+  const Q16 v_n0 = Num<Q16>::min(q16_at(in, "v_n0", p), Q16{});
+  return Json{{"target", to_json(contact_target_velocity(q16_at(in, "penetration", p), q16_at(in, "e", p), v_n0,
+                                                         q16_at(in, "g_n", p), q16_at(in, "dt", p),
+                                                         q16_at(in, "inv_dt", p)))}};
+}
+// The most points of one manifold: 8 ground corners or 9 samples of one SDF
+// volume (eq 93), as World<T>::solve_contacts passes them.
+constexpr int kManifoldPoints = 9;
+
+// eq 99 through the engine's solve_manifold: one solver visit of body a's
+// manifold against an immovable side (r2 = 0). Each point's k_n is eq 86 of
+// a at r1 along n, as the contact preparation computes it.
+Json f_manifold_visit(In in, const std::string& p) {
+  View A = view_at(in, "a", p);
+  View B = immovable();
+  const Json& pts = member(in, "points", p);
+  if (!pts.is_array() || pts.empty() || pts.size() > static_cast<std::size_t>(kManifoldPoints))
+    throw FormatError(p + ".points: expected 1 to 9 contact points");
+  struct Point {
+    V r1, n;
+    Q16 penetration;
+    ContactState<Q16> state;
+  };
+  std::vector<Point> points;
+  for (std::size_t k = 0; k < pts.size(); ++k) {
+    const std::string pp = p + ".points[" + std::to_string(k) + "]";
+    Point pt;
+    pt.r1 = vec_at(pts[k], "r1", pp);
+    pt.n = vec_at(pts[k], "n", pp);
+    pt.penetration = q16_at(pts[k], "penetration", pp);
+    pt.state.v_n0 = q16_at(pts[k], "v_n0", pp);
+    pt.state.e = q16_at(pts[k], "e", pp);
+    pt.state.mu = q16_at(pts[k], "mu", pp);
+    pt.state.j_n = q16_at(pts[k], "j_n", pp);
+    pt.state.j_t = vec_at(pts[k], "j_t", pp);
+    pt.state.k_n = inverse_effective_mass(A, pt.r1, B, V{}, pt.n);  // eq 86
+    points.push_back(pt);
+  }
+  const int count = static_cast<int>(points.size());
+  auto point = [&](int k, V& r1, V& n, Q16& penetration) {
+    if (k >= count) return false;
+    const Point& pt = points[static_cast<std::size_t>(k)];
+    r1 = pt.r1;
+    n = pt.n;
+    penetration = pt.penetration;
+    return true;
+  };
+  auto load = [&](int k) { return points[static_cast<std::size_t>(k)].state; };
+  auto store = [&](int k, const ContactState<Q16>& st) { points[static_cast<std::size_t>(k)].state = st; };
+  SolveCounts counts;
+  const bool friction = bool_at(in, "effect_friction", p), gravity = bool_at(in, "effect_gravity", p);
+  solve_manifold<kManifoldPoints>(A, B, point, load, store, friction, gravity, params_at(in, p), counts);
+  Json out_points = Json::array();
+  for (const Point& pt : points)
+    out_points.push_back(
+        Json{{"k_n", to_json(pt.state.k_n)}, {"j_n", to_json(pt.state.j_n)}, {"j_t", to_json(pt.state.j_t)}});
+  return Json{{"points", std::move(out_points)},
+              {"a", velocities(A)},
+              {"solver_contacts", counts.solver_contacts},
+              {"normal_impulses", counts.normal_impulses},
+              {"friction_steps", counts.friction_steps}};
+}
 Json f_friction_step(In in, const std::string& p) {
   View A = view_at(in, "a", p);
   View B = view_at(in, "b", p);
@@ -246,30 +309,9 @@ Json f_wakes(In in, const std::string& p) {
   return Json{{"wakes", wakes(q16_at(in, "v_n", p), q16_at(in, "penetration", p), params_at(in, p))}};
 }
 
-// The shared grid of the sdf_sample group (eq 32: spacing and its inverse).
-SdfGrid<Q16> grid_at(In in, const std::string& p, std::vector<Q16>& values) {
-  SdfGrid<Q16> g;
-  g.min = vec_at(in, "min", p);
-  g.max = vec_at(in, "max", p);
-  const Json& n = member(in, "n", p);
-  if (!n.is_array() || n.size() != 3) throw FormatError(p + ".n: expected [nx, ny, nz]");
-  for (int a = 0; a < 3; ++a) {
-    g.n[a] = n[static_cast<std::size_t>(a)].get<int>();
-    if (g.n[a] < 2) throw FormatError(p + ".n: each resolution must be >= 2");
-  }
-  g.inv_spacing = vec_at(in, "inv_spacing", p);
-  g.spacing = vec_at(in, "spacing", p);
-  const Json& vals = member(in, "values", p);
-  if (!vals.is_array() || vals.size() != static_cast<std::size_t>(g.n[0]) * g.n[1] * g.n[2])
-    throw FormatError(p + ".values: expected nx*ny*nz raw values");
-  values.clear();
-  for (const Json& x : vals) values.push_back(Q16::from_raw(x.get<std::int32_t>()));
-  g.values = values.data();
-  return g;
-}
 Json f_sdf_sample(In in, const std::string& p) {
   std::vector<Q16> values;
-  const SdfGrid<Q16> g = grid_at(in, p, values);
+  const SdfGrid<Q16> g = sdf_grid_at(in, p, values);
   const V x = vec_at(in, "p", p);
   const V grad = sdf_gradient(g, x);  // eq 34
   const bool valid = length(grad) > Q16{};
@@ -302,10 +344,8 @@ Json f_state_hash(In in, const std::string& p) {
   }
   const World<Q16> w(s);
   for (std::size_t i = 0; i < bodies.size(); ++i) {
-    const Body<Q16>& b = w.bodies()[i];
-    const Json got =
-        Json::array({b.p.x.raw(), b.p.y.raw(), b.p.z.raw(), b.q.w.raw(), b.q.x.raw(), b.q.y.raw(), b.q.z.raw(),
-                     b.v.x.raw(), b.v.y.raw(), b.v.z.raw(), b.w.x.raw(), b.w.y.raw(), b.w.z.raw(), b.asleep ? 1 : 0});
+    Json got = body_state(w.bodies()[i]);
+    got.erase(got.size() - 1);  // the sleep counter is not hashed
     if (got != bodies[i])
       throw FormatError(p + ".bodies[" + std::to_string(i) +
                         "]: not a loadable state (its quaternion must be a fixed point "
@@ -435,6 +475,28 @@ const std::vector<Formula>& formulas() {
        "FNV-1a 64 over, per body: raw int32 of p.x p.y p.z q.w q.x q.y q.z v.x v.y v.z w.x w.y w.z as 4 bytes "
        "little-endian each, then 1 byte asleep",
        f_state_hash},
+      {"contact_target_velocity",
+       {97},
+       "the target normal velocity of eq 94: v = min(v_n0, 0); touching (penetration >= 0): -(e * v); "
+       "else gap = -penetration; if not e > 0 or not -(v * dt) > gap (the gap does not close this frame): "
+       "penetration * inv_dt; else ev = -(e * v), rise = sqrt(max(g_n, 0) * gap * 2); 0 if not ev > rise; "
+       "ev if ev > 128; else sqrt((ev - rise) * (ev + rise)), i.e. sqrt((e v)^2 - 2 g_n gap) without the "
+       "overflow of ev^2. g_n is the gravity pressing the contact shut (-dot(gravity, n) against an immovable "
+       "side when gravity is on, else 0)",
+       f_contact_target_velocity},
+      {"manifold_visit",
+       {48, 49, 53, 56, 57, 60, 86, 87, 88, 94, 95, 97, 99},
+       "one solver iteration's visit of a manifold: body a's points of contact with one immovable side (ground "
+       "corners, the samples of one SDF volume; r2 = 0, b the immovable view), in points order. k_n,k = (86) of a at "
+       "r1_k along n_k. eq 99: with more than one point, o = sum_k (m_a^-1 + 0) / k_n,k in points order and "
+       "split = o if o > 1, else 1; with one point split = 1. Normal pass (Jacobi): for every point from the "
+       "velocities at the start of the visit, v_n = dot(v_a + w_a x r1, n) (48-49), target = eq 97 with "
+       "min(v_n0, 0) and g_n = -dot(gravity, n) if effect_gravity else 0, then (94) with k_n * split; then every "
+       "non-zero impulse n * dj is applied in points order (87). Friction: from the velocities after the "
+       "normal pass, for every point with j_n > 0 or j_t != 0: v_tan (56), k_t = (86) along normalize(v_tan) "
+       "(60) times split if |v_tan| > 0 (57), else 1; (95) with k_t, mu and the point's j_n; then every non-zero "
+       "dJ is applied in points order (87). Counts: points visited, normal and friction impulses applied",
+       f_manifold_visit},
   };
   return all;
 }
@@ -655,6 +717,59 @@ std::vector<Case> cases_for(const std::string& fn, Rng& rng) {
                                       v.x.raw(), v.y.raw(), v.z.raw(), w.x.raw(), w.y.raw(), w.z.raw(), asleep}));
       }
       in = {{"bodies", bodies}};
+    } else if (fn == "contact_target_velocity") {
+      // Touching, a speculative gap that stays open, and one that closes
+      // within the frame (a bounce from the gap); on the ground (g_n = 9.81)
+      // or between two falling bodies (g_n = 0).
+      const int kind = k % 3;
+      const Q16 v = rng.q16(kind == 2 ? -3 : -2, kind == 0 ? 0.5 : 0);
+      const Q16 gap = kind == 2 ? rng.q16(0.0001, 1) * Num<Q16>::min(-(v * P.dt), P.contact_tolerance)
+                                : rng.q16(0.0001, 0.01);
+      in = {{"penetration", to_json(kind == 0 ? rng.q16(0, 0.05) : -gap)},
+            {"e", to_json(k % 4 == 3 ? Q16{} : rng.q16(0, 1))},
+            {"v_n0", to_json(v)},
+            {"g_n", to_json(k % 5 == 4 ? Q16{} : -P.gravity.y)}};
+      add(in, kind == 0                ? "touching"
+              : -(v * P.dt) > gap ? "speculative gap closing this frame"
+                                  : "speculative gap staying open this frame");
+      continue;
+    } else if (fn == "manifold_visit") {
+      // A box on the ground (its lowest 1..8 corners, n up) or on an SDF
+      // surface (9 samples with their own normals), as the narrowphase finds them.
+      const bool sdf = k % 3 == 2;
+      const V half = rng.vec(0.1, 1.5);
+      const Qt q =
+          k % 2 ? rng.unit_quat() : normalize(Qt{Q16::from_raw(kOne), rng.q16(-0.1, 0.1), Q16{}, rng.q16(-0.1, 0.1)});
+      View A;
+      A.inv_mass = Q16::from_int(1) / rng.q16(0.5, 10);
+      A.R = rotation_matrix(q);
+      A.inv_inertia = box_inverse_inertia(half, A.inv_mass, Q16::from_int(3));
+      A.v = V{rng.q16(-1, 1), rng.q16(-3, 0.2), rng.q16(-1, 1)};
+      A.w = rng.vec(-2, 2);
+      std::vector<V> arms;
+      if (sdf) {
+        for (int i = 0; i < 9; ++i) arms.push_back(A.R * V{rng.q16(-1, 1) * half.x, -half.y, rng.q16(-1, 1) * half.z});
+      } else {
+        for (int c = 0; c < 8; ++c)
+          arms.push_back(A.R * V{c & 1 ? half.x : -half.x, c & 2 ? half.y : -half.y, c & 4 ? half.z : -half.z});
+        std::stable_sort(arms.begin(), arms.end(), [](const V& x, const V& y) { return x.y < y.y; });
+        arms.resize(static_cast<std::size_t>(1 + k % 8));
+      }
+      Json pts = Json::array();
+      for (const V& r1 : arms) {
+        const V normal = sdf ? slope_normal(rng) : V{Q16{}, Q16::from_int(1), Q16{}};
+        pts.push_back(Json{{"r1", to_json(r1)},
+                           {"n", to_json(normal)},
+                           {"penetration", to_json(rng.q16(-0.01, 0.05))},
+                           {"v_n0", to_json(dot(relative_velocity(A, r1, immovable(), V{}), normal))},
+                           {"e", to_json(k % 4 == 0 ? rng.q16(0, 0.8) : Q16{})},
+                           {"mu", to_json(rng.q16(0, 1))},
+                           {"j_n", to_json(k % 2 ? rng.q16(0, 0.5) : Q16{})},
+                           {"j_t", k % 5 == 1 ? random_raw_vec(rng, -0.05, 0.05) : zero}});
+      }
+      in = {{"a", view_json(A)}, {"points", pts}, {"effect_friction", k % 4 != 3}, {"effect_gravity", k % 5 != 4}};
+      add(in, sdf ? "9 SDF samples" : std::to_string(arms.size()) + " ground corner(s)");
+      continue;
     } else {
       throw std::logic_error("no case generator for formula " + fn);
     }
@@ -712,6 +827,58 @@ std::vector<Case> cases_for(const std::string& fn, Rng& rng) {
          {"v_n", to_json(-P.restitution_min_speed)},
          {"restitution_min_speed", to_json(P.restitution_min_speed)}},
         "approach exactly restitution_min_speed (strict >): no bounce", {"Edge"});
+  } else if (fn == "contact_target_velocity") {
+    const Q16 g = -P.gravity.y, one = Q16::from_int(1), half = Q16::from_double(0.5), v = -half;
+    const Q16 closes = -(v * P.dt);  // the gap -(v_n0 dt) that closes exactly this frame (below contact_tolerance)
+    auto tv = [](Q16 pen, Q16 e, Q16 v_n0, Q16 g_n) {
+      return Json{{"penetration", to_json(pen)}, {"e", to_json(e)}, {"v_n0", to_json(v_n0)}, {"g_n", to_json(g_n)}};
+    };
+    add(tv(Q16{}, half, v, g), "penetration exactly 0: touching, target -e v_n0", {"Edge"});
+    add(tv(Q16{}, half, one, g), "separating (v_n0 > 0, clamped to 0): target 0", {"Edge"});
+    add(tv(Q16::from_raw(-1), half, Q16::from_raw(-1), g), "gap of 1 ulp, -(v_n0 dt) = 1 ulp: stays open",
+        {"Edge"});
+    add(tv(-closes, one, v, g), "gap exactly -(v_n0 dt) (strict >): stays open, penetration * inv_dt", {"Edge"});
+    add(tv(-closes + Q16::from_raw(1), one, v, g), "gap 1 ulp below -(v_n0 dt): bounces from the gap", {"Edge"});
+    add(tv(-closes + Q16::from_raw(1), one, v, Q16{}), "bounce from the gap between falling bodies (g_n = 0): ev",
+        {"Edge"});
+    add(tv(-closes + Q16::from_raw(1), Q16{}, v, g), "closing gap, e = 0: penetration * inv_dt", {"Edge"});
+    add(tv(Q16::from_double(-0.01), Q16::from_double(0.05), -one, g),
+        "rise from the gap above e |v_n0|: target 0 (a bounce from a gap adds no energy)", {"Edge"});
+    add(tv(Q16::from_double(-0.01), one, Q16::from_int(-200), g), "e |v_n0| above 128 m/s: ev, uncorrected",
+        {"Edge"});
+    add(tv(Q16::from_double(-0.005), half, Q16::from_int(-2), Q16::from_int(-5)),
+        "negative g_n counts as 0: target -e v_n0", {"Edge"});
+  } else if (fn == "manifold_visit") {
+    // A box resting on the ground, level: the corners with y = -half.y (or all
+    // 8, sunk) at 1 mm penetration, landing at gravity * dt, nothing accumulated.
+    auto resting = [&](const V& half, int corners, bool friction) {
+      View A;
+      A.R = identity();
+      A.inv_mass = Q16::from_int(1);
+      A.inv_inertia = box_inverse_inertia(half, A.inv_mass, Q16::from_int(3));
+      A.v = P.gravity_dt;
+      Json pts = Json::array();
+      for (int c = 0; c < corners; ++c) {
+        const V r1{c & 1 ? half.x : -half.x, c & 4 ? half.y : -half.y, c & 2 ? half.z : -half.z};
+        pts.push_back(Json{{"r1", to_json(r1)},
+                           {"n", up},
+                           {"penetration", to_json(Q16::from_double(0.001))},
+                           {"v_n0", to_json(A.v.y)},
+                           {"e", 0},
+                           {"mu", 32768},
+                           {"j_n", 0},
+                           {"j_t", zero}});
+      }
+      return Json{{"a", view_json(A)}, {"points", pts}, {"effect_friction", friction}, {"effect_gravity", true}};
+    };
+    const V cube = Q16::from_double(0.5) * V{Q16::from_int(1), Q16::from_int(1), Q16::from_int(1)};
+    const V tall{Q16::from_double(0.1), Q16::from_int(1), Q16::from_double(0.1)};
+    add(resting(cube, 1, true), "one point: split 1", {"Edge"});
+    add(resting(cube, 2, true), "unit cube on an edge: o = 0.5, split 1 (max(1, o))", {"Edge"});
+    add(resting(cube, 4, false), "unit cube flat: o = 1 exactly, split 1", {"Edge"});
+    add(resting(cube, 4, true), "unit cube flat, with friction", {"Edge"});
+    add(resting(cube, 8, true), "unit cube, all 8 corners sunk: o = 2", {"Edge"});
+    add(resting(tall, 4, true), "tall thin box (0.2 x 2 x 0.2 m) standing: o about 3.8", {"Edge"});
   } else if (fn == "baumgarte_correction") {
     add({{"pa", zero},
          {"pb", zero},
@@ -735,18 +902,16 @@ Json shared_for(const std::string& fn) {
   if (fn == "settle_linear") return shared_params({"settle_speed", "settle_factor"});
   if (fn == "sleep_candidate") return shared_params({"sleep_linear", "sleep_angular", "sleep_alignment"});
   if (fn == "wakes") return shared_params({"wake_speed", "wake_penetration"});
+  if (fn == "contact_target_velocity") return shared_params({"dt", "inv_dt"});
+  if (fn == "manifold_visit") return shared_params({"dt", "inv_dt", "gravity"});
   if (fn == "sdf_sample") {
     // A 5 x 4 x 7 grid over [-1, 1] x [-0.5, 1] x [-1.5, 1.5]; values: the
     // distance to a sphere of radius 0.8 at (0.1, 0.2, -0.3), in Q16.
     const V lo{Q16::from_double(-1), Q16::from_double(-0.5), Q16::from_double(-1.5)};
     const V hi{Q16::from_double(1), Q16::from_double(1), Q16::from_double(1.5)};
-    const int nn[3] = {5, 4, 7};
-    V inv_spacing, spacing;
-    for (int a = 0; a < 3; ++a) {  // as World<Q16> computes them (eq 32)
-      const Q16 cells = Q16::from_int(nn[a] - 1);
-      inv_spacing[a] = cells / (hi[a] - lo[a]);
-      spacing[a] = (hi[a] - lo[a]) / cells;
-    }
+    const std::array<int, 3> nn = {5, 4, 7};
+    Json grid = sdf_grid_json(lo, hi, nn);
+    const V spacing = vec_at(grid, "spacing", "sdf_sample");
     const V c{Q16::from_double(0.1), Q16::from_double(0.2), Q16::from_double(-0.3)};
     Json values = Json::array();
     for (int k = 0; k < nn[2]; ++k)
@@ -756,12 +921,8 @@ Json shared_for(const std::string& fn) {
                     lo.z + spacing.z * Q16::from_int(k)};
           values.push_back((length(p - c) - Q16::from_double(0.8)).raw());
         }
-    return Json{{"min", to_json(lo)},
-                {"max", to_json(hi)},
-                {"n", Json::array({nn[0], nn[1], nn[2]})},
-                {"inv_spacing", to_json(inv_spacing)},
-                {"spacing", to_json(spacing)},
-                {"values", values}};
+    grid["values"] = std::move(values);
+    return grid;
   }
   return Json::object();
 }

@@ -9,16 +9,11 @@
 #include "lockstep/fixed/q16_vec.hpp"
 #include "lockstep/scene_json.hpp"
 #include "lockstep/vectors/params_json.hpp"
+#include "lockstep/vectors/sdf_json.hpp"
 #include "lockstep/world.hpp"
 
 namespace lockstep::vectors {
 namespace {
-
-Json body_state(const Body<Q16>& b) {
-  return Json::array({b.p.x.raw(), b.p.y.raw(), b.p.z.raw(), b.q.w.raw(), b.q.x.raw(), b.q.y.raw(), b.q.z.raw(),
-                      b.v.x.raw(), b.v.y.raw(), b.v.z.raw(), b.w.x.raw(), b.w.y.raw(), b.w.z.raw(), b.asleep ? 1 : 0,
-                      b.sleep_counter});
-}
 
 Json world_state(const World<Q16>& w) {
   Json bodies = Json::array();
@@ -56,24 +51,15 @@ Json setup_json(const Scene& s, const World<Q16>& w) {
   for (const SdfDesc& d : s.sdfs) {
     const Vec3<Q16> lo{Q16::from_double(d.min.x), Q16::from_double(d.min.y), Q16::from_double(d.min.z)};
     const Vec3<Q16> hi{Q16::from_double(d.max.x), Q16::from_double(d.max.y), Q16::from_double(d.max.z)};
-    const int n[3] = {d.nx, d.ny, d.nz};
-    Vec3<Q16> inv_spacing, spacing;
-    for (int a = 0; a < 3; ++a) {
-      const Q16 cells = Q16::from_int(n[a] - 1);
-      inv_spacing[a] = cells / (hi[a] - lo[a]);
-      spacing[a] = (hi[a] - lo[a]) / cells;
-    }
+    const Json grid = sdf_grid_json(lo, hi, {d.nx, d.ny, d.nz});
+    Json sdf{{"name", d.name}};
+    for (auto it = grid.begin(); it != grid.end(); ++it) sdf[it.key()] = it.value();
+    sdf["restitution"] = Q16::from_double(d.material.restitution).raw();
+    sdf["friction"] = Q16::from_double(d.material.friction).raw();
     Json values = Json::array();
     for (double v : d.values) values.push_back(Q16::from_double(v).raw());
-    sdfs.push_back(Json{{"name", d.name},
-                        {"min", to_json(lo)},
-                        {"max", to_json(hi)},
-                        {"n", Json::array({d.nx, d.ny, d.nz})},
-                        {"inv_spacing", to_json(inv_spacing)},
-                        {"spacing", to_json(spacing)},
-                        {"restitution", Q16::from_double(d.material.restitution).raw()},
-                        {"friction", Q16::from_double(d.material.friction).raw()},
-                        {"values", std::move(values)}});
+    sdf["values"] = std::move(values);
+    sdfs.push_back(std::move(sdf));
   }
   setup["sdfs"] = std::move(sdfs);
   return setup;
@@ -133,6 +119,12 @@ int all_asleep_frame_update(const World<Q16>& w, int current) {
 }
 
 }  // namespace
+
+Json body_state(const Body<Q16>& b) {
+  return Json::array({b.p.x.raw(), b.p.y.raw(), b.p.z.raw(), b.q.w.raw(), b.q.x.raw(), b.q.y.raw(), b.q.z.raw(),
+                      b.v.x.raw(), b.v.y.raw(), b.v.z.raw(), b.w.x.raw(), b.w.y.raw(), b.w.z.raw(), b.asleep ? 1 : 0,
+                      b.sleep_counter});
+}
 
 const std::vector<std::string>& state_fields() {
   static const std::vector<std::string> f = {"p.x", "p.y", "p.z", "q.w", "q.x", "q.y",    "q.z",          "v.x",

@@ -19,76 +19,107 @@ std::string g(double v, const char* f = "%.4g") {
   return b;
 }
 
-std::string csv_quote(const std::string& s) {
-  if (s.find_first_of(",\"\n") == std::string::npos) return s;
-  std::string out = "\"";
-  for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return out + "\"";
-}
+// The one CSV writer of the report's tables: a header line, then rows of
+// comma-separated fields; a text field holding a comma, a quote or a newline
+// is quoted (RFC 4180), numbers are written as given.
+class Csv {
+ public:
+  explicit Csv(const char* header) { o_ << header << '\n'; }
+  // One row; each field is text (quoted when needed) or a number.
+  template <class... Fields>
+  void row(const Fields&... fields) {
+    const char* sep = "";
+    ((o_ << sep << field(fields), sep = ","), ...);
+    o_ << '\n';
+  }
+  std::string str() const { return o_.str(); }
+
+ private:
+  static std::string field(const std::string& s) {
+    if (s.find_first_of(",\"\n") == std::string::npos) return s;
+    std::string out = "\"";
+    for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+    return out + "\"";
+  }
+  static std::string field(const char* s) { return field(std::string(s)); }
+  template <class N>
+  static std::string field(const N& n) { return std::to_string(n); }
+  std::ostringstream o_;
+};
 
 std::string frames_csv(const Recording& r) {
-  std::ostringstream o;
-  o << "frame,engine,pos_max_m,pos_rms_m,pos_body,ori_max_rad,ori_rms_rad,ori_body,energy_J,asleep\n";
+  Csv csv("frame,engine,pos_max_m,pos_rms_m,pos_body,ori_max_rad,ori_rms_rad,ori_body,energy_J,asleep");
   for (const EngineTrack& t : r.engines)
     for (const FrameStats& f : t.frames)
-      o << f.frame << ',' << t.name << ',' << g(f.pos_max, "%.9g") << ',' << g(f.pos_rms, "%.9g") << ',' << f.pos_body << ','
-        << g(f.ori_max, "%.9g") << ',' << g(f.ori_rms, "%.9g") << ',' << f.ori_body << ',' << g(f.energy, "%.9g") << ','
-        << f.asleep << '\n';
-  return o.str();
+      csv.row(f.frame, t.name, g(f.pos_max, "%.9g"), g(f.pos_rms, "%.9g"), f.pos_body, g(f.ori_max, "%.9g"),
+              g(f.ori_rms, "%.9g"), f.ori_body, g(f.energy, "%.9g"), f.asleep);
+  return csv.str();
 }
 
 std::string bodies_csv(const Recording& r, const CompareTolerances& tol) {
-  std::ostringstream o;
-  o << "engine,body,frame,px_m,py_m,pz_m,qw,qx,qy,qz,face_up,alignment,support,asleep,sleep_frame\n";
+  Csv csv("engine,body,frame,px_m,py_m,pz_m,qw,qx,qy,qz,face_up,alignment,support,asleep,sleep_frame");
   for (const EngineTrack& t : r.engines) {
     const auto rs = resting_states(r.scene, t.final_bodies, tol.support_gap, tol.flat_alignment);
     for (std::size_t i = 0; i < t.final_bodies.size() && i < rs.size(); ++i) {
       const BodySnapshot& b = t.final_bodies[i];
-      o << t.name << ',' << i << ',' << t.frames_run;
-      for (double x : b.p) o << ',' << g(x, "%.9g");
-      for (double x : b.q) o << ',' << g(x, "%.9g");
-      o << ',' << rs[i].face.label << ',' << g(rs[i].face.alignment, "%.6f") << ',' << supports_label(rs[i].supports) << ','
-        << (b.asleep ? 1 : 0) << ',' << (b.asleep ? b.sleep_frame : -1) << '\n';
+      auto x = [](double v) { return g(v, "%.9g"); };
+      csv.row(t.name, i, t.frames_run, x(b.p[0]), x(b.p[1]), x(b.p[2]), x(b.q[0]), x(b.q[1]), x(b.q[2]), x(b.q[3]),
+              rs[i].face.label, g(rs[i].face.alignment, "%.6f"), supports_label(rs[i].supports), b.asleep ? 1 : 0,
+              b.asleep ? b.sleep_frame : -1);
     }
   }
-  return o.str();
+  return csv.str();
 }
 
 std::string checks_csv(const Verdict& v) {
-  std::ostringstream o;
-  o << "engine,baseline,check,quantity,body,frame,value,baseline_value,tolerance,pass\n";
+  Csv csv("engine,baseline,check,quantity,body,frame,value,baseline_value,tolerance,pass");
   for (const EngineVerdict& e : v.engines)
     for (const Finding& f : e.findings)
-      o << f.engine << ',' << v.baseline << ',' << f.check << ',' << csv_quote(f.quantity) << ',' << f.body << ',' << f.frame
-        << ',' << csv_quote(f.value) << ',' << csv_quote(f.baseline_value) << ',' << csv_quote(f.tolerance) << ','
-        << (f.pass ? 1 : 0) << '\n';
-  return o.str();
+      csv.row(f.engine, v.baseline, f.check, f.quantity, f.body, f.frame, f.value, f.baseline_value, f.tolerance,
+              f.pass ? 1 : 0);
+  return csv.str();
 }
 
 std::string sleep_csv(const Recording& r) {
-  std::ostringstream o;
-  o << "engine,body,asleep_from_frame,asleep_until_frame\n";
+  Csv csv("engine,body,asleep_from_frame,asleep_until_frame");
   for (const EngineTrack& t : r.engines)
     for (std::size_t i = 0; i < t.asleep_intervals.size(); ++i)
-      for (const auto& [a, b] : t.asleep_intervals[i]) o << t.name << ',' << i << ',' << a << ',' << b << '\n';
-  return o.str();
+      for (const auto& [a, b] : t.asleep_intervals[i]) csv.row(t.name, i, a, b);
+  return csv.str();
 }
 
 std::string statistics_csv(const Recording& r, const CompareTolerances& tol) {
-  std::ostringstream o;
-  o << "engine,statistic,key,value\n";
+  Csv csv("engine,statistic,key,value");
   for (const EngineTrack& t : r.engines) {
     const PileStatistics s = pile_statistics(r.scene, t.final_bodies, tol);
-    for (const auto& [bin, n] : s.height_histogram) o << t.name << ",height_bin_from_m," << g(bin * tol.height_bin, "%.9g") << ',' << n << '\n';
-    for (const auto& [face, n] : s.faces) o << t.name << ",face_up," << face << ',' << n << '\n';
-    o << t.name << ",asleep,," << s.asleep << '\n' << t.name << ",median_sleep_frame,," << s.median_sleep_frame << '\n';
-    o << t.name << ",mean_height_m,," << g(s.mean_height, "%.9g") << '\n';
+    for (const auto& [bin, n] : s.height_histogram) csv.row(t.name, "height_bin_from_m", g(bin * tol.height_bin, "%.9g"), n);
+    for (const auto& [face, n] : s.faces) csv.row(t.name, "face_up", face, n);
+    csv.row(t.name, "asleep", "", s.asleep);
+    csv.row(t.name, "median_sleep_frame", "", s.median_sleep_frame);
+    csv.row(t.name, "mean_height_m", "", g(s.mean_height, "%.9g"));
   }
-  return o.str();
+  return csv.str();
 }
 
 std::string title(const Recording& r, const std::string& what) {
   return what + ": scene " + r.scene.name + " (" + std::to_string(r.scene.bodies.size()) + " bodies)";
+}
+
+// One series per engine (the baseline left out when skip_baseline) of a
+// per-frame value: the line charts of the report.
+template <class Value>
+void add_frame_series(svg::Chart& c, const Recording& r, bool skip_baseline, Value value) {
+  for (std::size_t e = 0; e < r.engines.size(); ++e) {
+    if (skip_baseline && static_cast<int>(e) == r.baseline) continue;
+    svg::Series s;
+    s.name = r.engines[e].name;
+    s.color = static_cast<int>(e);
+    for (const FrameStats& f : r.engines[e].frames) {
+      s.x.push_back(f.frame);
+      s.y.push_back(value(f));
+    }
+    c.series.push_back(std::move(s));
+  }
 }
 
 std::string divergence_svg(const Recording& r, const Verdict& v, bool position) {
@@ -98,17 +129,7 @@ std::string divergence_svg(const Recording& r, const Verdict& v, bool position) 
   c.y_label = position ? "max over bodies of |p - p_baseline| (m)" : "max over bodies of angle(q, q_baseline) (rad)";
   c.log_y = true;
   c.notes.push_back("dashed grey: the tolerance; values of 0 (bit-equal) are not drawn on the log axis");
-  for (std::size_t e = 0; e < r.engines.size(); ++e) {
-    if (static_cast<int>(e) == r.baseline) continue;
-    svg::Series s;
-    s.name = r.engines[e].name;
-    s.color = static_cast<int>(e);
-    for (const FrameStats& f : r.engines[e].frames) {
-      s.x.push_back(f.frame);
-      s.y.push_back(position ? f.pos_max : f.ori_max);
-    }
-    c.series.push_back(std::move(s));
-  }
+  add_frame_series(c, r, true, [&](const FrameStats& f) { return position ? f.pos_max : f.ori_max; });
   svg::Series tol;
   tol.name = "tolerance";
   tol.color = 7;
@@ -125,16 +146,7 @@ std::string energy_svg(const Recording& r) {
   c.title = title(r, "Energy");
   c.x_label = "frame";
   c.y_label = "kinetic + potential energy (J)";
-  for (std::size_t e = 0; e < r.engines.size(); ++e) {
-    svg::Series s;
-    s.name = r.engines[e].name;
-    s.color = static_cast<int>(e);
-    for (const FrameStats& f : r.engines[e].frames) {
-      s.x.push_back(f.frame);
-      s.y.push_back(f.energy);
-    }
-    c.series.push_back(std::move(s));
-  }
+  add_frame_series(c, r, false, [](const FrameStats& f) { return f.energy; });
   return svg::render(c);
 }
 
@@ -146,16 +158,7 @@ std::string sleep_svg(const Recording& r) {
     c.title = title(r, "Bodies asleep");
     c.x_label = "frame";
     c.y_label = "bodies asleep";
-    for (std::size_t e = 0; e < r.engines.size(); ++e) {
-      svg::Series s;
-      s.name = r.engines[e].name;
-      s.color = static_cast<int>(e);
-      for (const FrameStats& f : r.engines[e].frames) {
-        s.x.push_back(f.frame);
-        s.y.push_back(f.asleep);
-      }
-      c.series.push_back(std::move(s));
-    }
+    add_frame_series(c, r, false, [](const FrameStats& f) { return static_cast<double>(f.asleep); });
     return svg::render(c);
   }
   svg::Timeline tl;

@@ -10,6 +10,7 @@
 #include "lockstep/math/vec.hpp"
 #include "lockstep/physics/params.hpp"
 #include "lockstep/physics/sdf.hpp"
+#include "lockstep/physics/solver.hpp"
 #include "lockstep/scene.hpp"
 
 namespace lockstep {
@@ -71,14 +72,9 @@ struct Contact {
   T penetration{};
   bool corrects = true;  // carries the body's position correction (eq 89)
   int feature = 0;       // which point of the pair: ground corner k, SDF sample s, 0 for body pairs (eq 96)
-  // Solver state (eqs 94-95), set when the solve starts.
-  Vec3<T> r1, r2;        // lever arms c - p (eq 48)
-  T v_n0{};              // approach speed before the solve (eq 49)
-  T e{}, mu{};           // eqs 50 + 76, eq 58
-  T g_n{};               // gravity pressing the contact shut (eq 97)
-  T k_n{};               // inverse effective mass along n (eq 86)
-  T j_n{};               // accumulated normal impulse (eq 94)
-  Vec3<T> j_t;           // accumulated friction impulse (eq 95)
+  // Solver state (eqs 94-96), set when the solve starts.
+  Vec3<T> r1, r2;        // lever arms c - p (eq 48, m)
+  ContactState<T> state; // impulses, approach speed, e, mu, k_n (physics/solver.hpp)
 };
 
 // Result of a raycast (Appendix B).
@@ -158,6 +154,7 @@ class World {
   std::vector<CachedImpulse> warm_;
   std::vector<int> support_;          // per body: index of its first support contact, -1 if none
   std::vector<Vec3<T>> support_n_;    // per body: its support normal (4.1), zero if none
+  std::vector<Vec3<T>> corrected_from_;  // per body: its position before this frame's correction (eq 89 order)
   T ground_y_{}, ground_e_{}, ground_mu_{};
   std::vector<T> sdf_e_, sdf_mu_;
   StageCounters counters_;

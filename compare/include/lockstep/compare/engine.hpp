@@ -22,6 +22,19 @@ struct BodySnapshot {
   int sleep_frame;  // -1: not asleep yet
 };
 
+// A World<T> body as a snapshot (converted to double): what WorldRun<T>::body
+// returns, and what tests compare other engines' bodies with.
+template <class T>
+BodySnapshot snapshot_of(const Body<T>& b) {
+  auto d = [](const T& x) { return Num<T>::to_double(x); };
+  return {{d(b.p.x), d(b.p.y), d(b.p.z)},
+          {d(b.q.w), d(b.q.x), d(b.q.y), d(b.q.z)},
+          {d(b.v.x), d(b.v.y), d(b.v.z)},
+          {d(b.w.x), d(b.w.y), d(b.w.z)},
+          b.asleep,
+          b.asleep ? b.sleep_frame : -1};
+}
+
 class EngineRun {
  public:
   virtual ~EngineRun() = default;

@@ -52,6 +52,10 @@ template <class T> LS_HD Vec3<T> cross(const Vec3<T>& a, const Vec3<T>& b) {
 }
 template <class T> LS_HD T length_sq(const Vec3<T>& a) { return dot(a, a); }
 template <class T> LS_HD T length(const Vec3<T>& a) { return Num<T>::sqrt(length_sq(a)); }
+// The largest |component| (exact in every number type: no rounding).
+template <class T> LS_HD T max_abs(const Vec3<T>& a) {
+  return Num<T>::max(Num<T>::abs(a.x), Num<T>::max(Num<T>::abs(a.y), Num<T>::abs(a.z)));
+}
 // a / |a|; a zero vector gives zero (Q16 raises kQ16NormalizeZero instead).
 template <class T> LS_HD Vec3<T> normalize(const Vec3<T>& a) {
   const T len = length(a);

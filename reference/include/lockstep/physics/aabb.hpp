@@ -50,7 +50,9 @@ LS_HD Overlap<T> aabb_overlap(const Vec3<T>& p1, const Vec3<T>& h1, const Vec3<T
 }
 
 // eq 85 (the source's "manifold midpoint" (47)): the centre of the
-// intersection of the two AABBs.
+// intersection of the two AABBs, lo + (hi - lo)/2: the source's (lo + hi)/2
+// overflows Q16.16 beyond |x| = 16384 m; in Q16.16 both floor to the same raw
+// value, (hi - lo) >= 0 never overflows for boxes within range.
 template <class T>
 LS_HD Vec3<T> aabb_contact_point(const Vec3<T>& p1, const Vec3<T>& h1, const Vec3<T>& p2, const Vec3<T>& h2,
                                  const T& half) {
@@ -58,7 +60,7 @@ LS_HD Vec3<T> aabb_contact_point(const Vec3<T>& p1, const Vec3<T>& h1, const Vec
   for (int i = 0; i < 3; ++i) {
     const T lo = Num<T>::max(p1[i] - h1[i], p2[i] - h2[i]);
     const T hi = Num<T>::min(p1[i] + h1[i], p2[i] + h2[i]);
-    c[i] = (lo + hi) * half;
+    c[i] = lo + (hi - lo) * half;
   }
   return c;
 }

@@ -100,6 +100,23 @@ LS_HD Vec3<T> accumulate_friction_impulse(Vec3<T>& accumulated, const Vec3<T>& v
   return updated - old;
 }
 
+// eq 99: the step length of a manifold's Jacobi step. A body's points
+// against one environment object are solved from the same velocities and
+// their proposed impulses dJ_k applied together; their sum can overshoot (two
+// corners at one end of a thin plate push its rotation twice as hard as one).
+// With a = sum_k dJ_k . (target_k - v_k) (the residual's pull) and
+// b = sum_k dJ_k . dv_k (dv_k: the velocity change at point k that all the
+// dJ cause together; b = dJ^T K dJ >= 0), the kinetic energy along
+// alpha dJ is minimal at alpha = a / b; the step is min(1, a / b), 1 when
+// a <= 0 (nothing to gain; a friction re-clamp). a and b may carry any common
+// positive factor (the manifold divides dJ by its largest component first,
+// which keeps them inside Q16.16).
+template <class T>
+LS_HD T manifold_step_length(const T& a, const T& b) {
+  if (!(a > T{}) || !(b > a)) return Num<T>::from_int(1);
+  return a / b;
+}
+
 // eq 87 (two-body eqs 54-55 and 61-62): impulse J on body a at r1, -J on b at r2.
 template <class T>
 LS_HD void apply_impulse(BodyView<T>& a, const Vec3<T>& r1, BodyView<T>& b, const Vec3<T>& r2, const Vec3<T>& J) {

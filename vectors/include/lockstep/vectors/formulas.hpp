@@ -1,8 +1,9 @@
 // Level 2 vectors: single-equation cases in raw Q16.16, each naming its
 // equation numbers (docs/SPEC.md): integration, the quaternion step, the
 // rotated AABB, AABB overlap and normal, ground and two-body impulses,
-// friction, Baumgarte, righting, SDF sample and normal, the state hash, and
-// the derived constants. File: formulas.json.
+// friction, Baumgarte, righting, SDF sample and normal, the state hash, the
+// derived constants, the contact target velocity (eq 97) and a solver visit
+// of a manifold with its split factor (eq 99). File: formulas.json.
 #pragma once
 #include <string>
 #include <vector>

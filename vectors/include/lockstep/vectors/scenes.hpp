@@ -9,11 +9,15 @@
 
 #include "lockstep/scene.hpp"
 #include "lockstep/vectors/common.hpp"
+#include "lockstep/world.hpp"
 
 namespace lockstep::vectors {
 
 // The 15 per-body state fields of "states", in order.
 const std::vector<std::string>& state_fields();
+// One body's row of "states": the 15 state_fields() as raw integers (the
+// first 13 and asleep are what eq 92 hashes).
+Json body_state(const Body<Q16>& body);
 
 struct SceneVectorOptions {
   // Scenes with at most this many bodies get the full state at every frame;

@@ -1,0 +1,90 @@
+// Per-body steps of the frame (docs/SPEC.md 7.2 stages 1, 6, 8, 9 and the
+// wake test of stage 4), host and device (LS_HD), generic over the number
+// type: World<T>'s per-body loops (reference/src/) and the GPU engine's
+// kernels (gpu/src/stages.hpp) call these same functions, so the engines
+// differ in scheduling, not in formulas.
+#pragma once
+#include "lockstep/math/vec.hpp"
+#include "lockstep/physics/integrate.hpp"
+#include "lockstep/physics/params.hpp"
+#include "lockstep/physics/settle.hpp"
+#include "lockstep/physics/sleep.hpp"
+
+namespace lockstep {
+
+// Stage 1 (eqs 1, 5, 6, 13) for one awake body: gravity when `gravity`, then
+// linear and angular damping when `damping`.
+template <class T>
+LS_HD void integrate_velocity(Vec3<T>& v, Vec3<T>& w, bool gravity, bool damping, const Params<T>& P) {
+  if (gravity) v = apply_gravity(v, P.gravity_dt);  // eqs 1, 5
+  if (damping) {
+    v = apply_damping(v, P.linear_damping_factor);   // eq 6
+    w = apply_damping(w, P.angular_damping_factor);  // eq 13
+  }
+}
+
+// Stage 6 for one supported awake body, linear part: eq 75 against the
+// support's velocity v_support (0 for an immovable support), then |v|, then
+// eq 77. n is the body's support normal (4.1). Returns |v| after eq 75, the
+// speed that righting (eqs 67-71) uses.
+template <class T>
+LS_HD T settle_linear_velocity(Vec3<T>& v, const Vec3<T>& v_support, const Vec3<T>& n, const Params<T>& P) {
+  v = cancel_resting_velocity(v, v_support, n, P.rest_speed);  // eq 75
+  const T speed = length(v);
+  v = settle_linear(v, speed, P);  // eq 77
+  return speed;
+}
+
+// Stage 6, angular part: righting (eqs 64-71, 65 fixed) and the damping
+// regimes (eqs 72-74), "up" being the support normal n; `speed` is what
+// settle_linear_velocity returned.
+template <class T>
+LS_HD Vec3<T> settle_angular_velocity(const Vec3<T>& w, const Mat3<T>& R, const Vec3<T>& n, const T& speed,
+                                      const Params<T>& P) {
+  const Alignment<T> al = alignment_of(R, n);       // eqs 64-66 (65 fixed)
+  const Vec3<T> w1 = righting(w, al, n, speed, P);  // eqs 67-71
+  return regime_damping(w1, al.alignment, P);       // eqs 72-74
+}
+
+// Stage 8 (eqs 2, 7-10) for one awake body.
+template <class T>
+LS_HD void integrate_pose(Vec3<T>& p, Quat<T>& q, const Vec3<T>& v, const Vec3<T>& w, const Params<T>& P) {
+  p = integrate_position(p, v, P.dt);          // eq 2
+  q = integrate_orientation(q, w, P.half_dt);  // eqs 7-10
+}
+
+// Stage 9 (eqs 78-80) for one awake body; `up` is its support normal (4.1),
+// (0, 1, 0) when unsupported; `counter` is its sleep counter (eq 78).
+// Returns true when it falls asleep (v and w are then zeroed, eq 80).
+template <class T>
+LS_HD bool update_sleep(Vec3<T>& v, Vec3<T>& w, int& counter, bool supported, const Mat3<T>& R, const Vec3<T>& up,
+                        const Params<T>& P) {
+  const T speed = length(v), spin = length(w);
+  const Alignment<T> al = alignment_of(R, up);
+  if (sleep_candidate(supported, speed, spin, al.alignment, P)) ++counter;  // eq 78
+  else counter = 0;
+  switch (sleep_stage(counter, P.drowsy_frames, P.sleep_frames)) {
+    case SleepStage::kAsleep:  // eq 80
+      v = Vec3<T>{};
+      w = Vec3<T>{};
+      return true;
+    case SleepStage::kDrowsy:  // eq 79
+      v = v * P.drowsy_damping;
+      w = w * P.drowsy_damping;
+      return false;
+    case SleepStage::kAwake: break;
+  }
+  return false;
+}
+
+// Eq 81 for a body-body contact (normal n from b towards a) between an awake
+// and a sleeping body: the velocity of a sleeping side counts as 0. True when
+// the sleeper wakes (fast approach or deep penetration).
+template <class T>
+LS_HD bool wake_test(const Vec3<T>& va, bool a_asleep, const Vec3<T>& vb, bool b_asleep, const Vec3<T>& n,
+                     const T& penetration, const Params<T>& P) {
+  const Vec3<T> v_rel = (a_asleep ? Vec3<T>{} : va) - (b_asleep ? Vec3<T>{} : vb);
+  return wakes(dot(v_rel, n), penetration, P);
+}
+
+}  // namespace lockstep

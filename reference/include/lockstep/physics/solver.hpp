@@ -1,0 +1,286 @@
+// Per-contact steps of the contact solver (docs/SPEC.md 7.2 stage 5), host
+// and device (LS_HD), generic over the number type: World<T>::solve_contacts
+// (reference/src/contact_solver.hpp) and the GPU engine's kernels
+// (gpu/src/stages.hpp) call these same functions for one contact or one
+// manifold; they differ in the order of visits, not in formulas.
+#pragma once
+#include "lockstep/math/vec.hpp"
+#include "lockstep/physics/contact.hpp"
+#include "lockstep/physics/params.hpp"
+
+namespace lockstep {
+
+template <class T>
+LS_HD Mat3<T> identity3() {
+  const T one = Num<T>::from_int(1);
+  return {{{one, T{}, T{}}, {T{}, one, T{}}, {T{}, T{}, one}}};
+}
+
+// The contact-side view of an immovable side (ground, SDF volume, static or
+// sleeping body): inverse mass and inertia 0, no velocity.
+template <class T>
+LS_HD BodyView<T> immovable_view() {
+  BodyView<T> v;
+  v.R = identity3<T>();
+  return v;
+}
+
+// The contact-side view of an awake body: velocity v (m/s), angular velocity
+// w (rad/s), inverse mass (1/kg), rotation R and body-frame inverse inertia
+// (eq 18).
+template <class T>
+LS_HD BodyView<T> dynamic_view(const Vec3<T>& v, const Vec3<T>& w, const T& inv_mass, const Mat3<T>& R,
+                               const Vec3<T>& inv_inertia) {
+  BodyView<T> b;
+  b.v = v;
+  b.w = w;
+  b.inv_mass = inv_mass;
+  b.R = R;
+  b.inv_inertia = inv_inertia;
+  return b;
+}
+
+// What the solver counts (docs/SPEC.md "Per-stage counters").
+struct SolveCounts {
+  unsigned solver_contacts = 0;      // contact visits
+  unsigned normal_impulses = 0;      // non-zero normal impulses applied (eqs 53, 87)
+  unsigned restitution_bounces = 0;  // contacts prepared with e_eff > 0 (eq 76)
+  unsigned friction_steps = 0;       // non-zero friction impulses applied (eqs 61-62)
+};
+
+// A contact's solver state (eqs 94-96): accumulated impulses and the values
+// fixed when the solve starts.
+template <class T>
+struct ContactState {
+  T j_n{};        // accumulated normal impulse (eq 94, N s), >= 0
+  Vec3<T> j_t{};  // accumulated friction impulse (eq 95, N s)
+  T v_n0{};       // approach speed before the solve (eq 49, m/s)
+  T e{};          // restitution after eqs 50, 76 (1)
+  T mu{};         // friction coefficient (eq 58, 1)
+  T k_n{};        // inverse effective mass along n (eq 86, 1/kg); 0: both sides immovable
+};
+
+// The preparation of one contact (eqs 48-50, 58, 76, 86) with the velocities
+// before the warm start: A is body 1 with lever arm r1 and material (e1, mu1),
+// B body 2 with r2 and (e2, mu2), n points from B to A. Impulses start at 0.
+template <class T>
+LS_HD ContactState<T> prepare_contact(const BodyView<T>& A, const Vec3<T>& r1, const BodyView<T>& B, const Vec3<T>& r2,
+                                      const Vec3<T>& n, const T& e1, const T& mu1, const T& e2, const T& mu2,
+                                      bool restitution, bool friction, const Params<T>& P, SolveCounts& counts) {
+  ContactState<T> c;
+  c.v_n0 = dot(relative_velocity(A, r1, B, r2), n);  // eqs 48-49
+  c.e = restitution ? low_speed_restitution(combined_restitution(e1, e2), c.v_n0, P.restitution_min_speed)
+                    : T{};  // eqs 50, 76
+  if (c.e > T{}) ++counts.restitution_bounces;
+  c.mu = friction ? combined_friction(mu1, mu2) : T{};  // eq 58
+  c.k_n = inverse_effective_mass(A, r1, B, r2, n);      // eq 86
+  return c;
+}
+
+// Eq 96: the warm start of one contact from last frame's accumulated normal
+// impulse cached_j_n of the same contact (same bodies, same feature), applied
+// to A and B. Friction starts from zero: a warm-started friction impulse on a
+// resting manifold kept re-injecting spin about the normal that 4 iterations
+// did not remove.
+template <class T>
+LS_HD void warm_start_contact(BodyView<T>& A, const Vec3<T>& r1, BodyView<T>& B, const Vec3<T>& r2, const Vec3<T>& n,
+                              ContactState<T>& c, const T& cached_j_n) {
+  if (!(c.k_n > T{})) return;
+  c.j_n = cached_j_n;
+  apply_impulse(A, r1, B, r2, n * c.j_n);  // eq 87
+}
+
+// Eq 97's g_n: gravity presses a body onto an immovable side B; two falling
+// bodies feel none. B's mobility does not change during the solve.
+template <class T>
+LS_HD T gravity_pressing(const BodyView<T>& B, const Vec3<T>& n, bool gravity, const Params<T>& P) {
+  return (gravity && B.inv_mass == T{}) ? -dot(P.gravity, n) : T{};
+}
+
+// One solver visit of one contact (eqs 48-49, 53, 56-57, 60, 87-88, 94-95,
+// 97). A is body 1, B body 2, n points from B to A; A and B are updated in
+// place. `k_scale` multiplies the effective masses k_n and k_t: 1 is
+// World<T>'s sequential visit of a body pair; the GPU engine's Jacobi visits
+// of body-body contacts pass the larger contact count of the two bodies (mass
+// splitting, docs/GPU.md).
+template <class T>
+LS_HD void solve_contact(BodyView<T>& A, const Vec3<T>& r1, BodyView<T>& B, const Vec3<T>& r2, const Vec3<T>& n,
+                         const T& penetration, ContactState<T>& c, bool friction, bool gravity, const T& k_scale,
+                         const Params<T>& P, SolveCounts& counts) {
+  if (!(c.k_n > T{})) return;  // both sides immovable
+  ++counts.solver_contacts;
+  const T v_n = dot(relative_velocity(A, r1, B, r2), n);  // eqs 48-49
+  // Only approaching contacts bounce (the fix of 3.1): the target -e v_n0 uses v_n0 <= 0.
+  const T target = contact_target_velocity(penetration, c.e, Num<T>::min(c.v_n0, T{}), gravity_pressing(B, n, gravity, P),
+                                           P.dt, P.inv_dt);  // eq 97
+  const T dj = accumulate_normal_impulse(c.j_n, v_n, target, c.k_n * k_scale);  // eqs 53, 94
+  if (dj != T{}) {
+    apply_impulse(A, r1, B, r2, n * dj);  // eq 87
+    ++counts.normal_impulses;
+  }
+  // Friction (eqs 56-62, 88, 95); also re-clamps a friction impulse left
+  // above mu J_n when J_n has since dropped.
+  if (friction && (c.j_n > T{} || !(c.j_t == Vec3<T>{}))) {
+    const Vec3<T> v_tan = tangential_velocity(relative_velocity(A, r1, B, r2), n);  // eq 56
+    const bool sliding = length(v_tan) > T{};                                       // eq 57
+    const T k_t = sliding ? inverse_effective_mass(A, r1, B, r2, normalize(v_tan)) : Num<T>::from_int(1);  // eqs 60, 88
+    const Vec3<T> dJ = accumulate_friction_impulse(c.j_t, v_tan, k_t * k_scale, c.mu, c.j_n);  // eq 95
+    if (!(dJ == Vec3<T>{})) {
+      apply_impulse(A, r1, B, r2, dJ);  // eqs 61-62, 87
+      ++counts.friction_steps;
+    }
+  }
+}
+
+// One solver visit of a manifold (eq 99): a body A's contacts with one
+// immovable environment object B (its ground corners, its samples of one SDF
+// volume; r2 = 0), solved Jacobi-style so that a symmetric landing stays
+// symmetric. Normal step: every point's impulse is proposed from the
+// velocities at the start of the visit (eqs 53, 94, 97), with each point's
+// effective mass scaled by split = max(1, o), o = sum_k m^-1 / k_n,k (the
+// points share one body, so their simultaneous impulses add up: o is 1 for a
+// unit cube's 4 bottom corners, 2 for 8 sunken corners, 3.8 for a tall thin
+// box standing); the proposals are scaled by the step length alpha of eq 99
+// (manifold_step_length), which stops the sum from overshooting through the
+// rotation (two corners at one end of a thin plate) and so from adding
+// energy; then all are applied. Friction step: the same, from the velocities
+// after the normal step (eqs 56-62, 88, 95).
+// `point(k, r1, n, penetration)` gives point k (k = 0..N-1; false: not a
+// contact); `load(k)` and `store(k, state)` read and write its solver state.
+// The visit is skipped when the first point's k_n is 0 (both sides
+// immovable).
+template <int N, class T, class Point, class Load, class Store>
+LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point, const Load& load, const Store& store,
+                          bool friction, bool gravity, const Params<T>& P, SolveCounts& counts) {
+  const Vec3<T> r2{};
+  const T one = Num<T>::from_int(1);
+  T split = one;  // eq 99
+  int count = 0;
+  {
+    T o{};
+    for (int k = 0; k < N; ++k) {
+      Vec3<T> r1, n;
+      T penetration;
+      if (!point(k, r1, n, penetration)) continue;
+      const T k_n = load(k).k_n;
+      if (count == 0 && !(k_n > T{})) return;  // both sides immovable
+      ++count;
+      o += (A.inv_mass + B.inv_mass) / k_n;
+    }
+    if (count == 0) return;
+    if (count > 1 && o > one) split = o;
+  }
+  // The velocity change that a set of impulses causes at the points, for
+  // eq 99's b: A and B without their velocities.
+  BodyView<T> Z = A, Zb = B;
+  Z.v = Z.w = Zb.v = Zb.w = Vec3<T>{};
+  T dj[N], res[N];
+  T reach{};  // the largest |dj|: eq 99's common scale
+#if defined(__CUDA_ARCH__)
+#pragma unroll 1
+#endif
+  for (int k = 0; k < N; ++k) {
+    dj[k] = res[k] = T{};
+    Vec3<T> r1, n;
+    T penetration;
+    if (!point(k, r1, n, penetration)) continue;
+    const ContactState<T> c = load(k);
+    ++counts.solver_contacts;
+    const T v_n = dot(relative_velocity(A, r1, B, r2), n);  // eqs 48-49, at the visit's start
+    // Only approaching contacts bounce (the fix of 3.1): the target -e v_n0 uses v_n0 <= 0.
+    const T target = contact_target_velocity(penetration, c.e, Num<T>::min(c.v_n0, T{}),
+                                             gravity_pressing(B, n, gravity, P), P.dt, P.inv_dt);  // eq 97
+    T j_n = c.j_n;
+    dj[k] = accumulate_normal_impulse(j_n, v_n, target, c.k_n * split);  // eqs 53, 94, 99
+    res[k] = target - v_n;
+    reach = Num<T>::max(reach, Num<T>::abs(dj[k]));
+    if (count > 1 && dj[k] != T{}) apply_impulse(Z, r1, Zb, r2, n * dj[k]);
+  }
+  if (count > 1 && reach > T{}) {
+    T a{}, b{};
+#if defined(__CUDA_ARCH__)
+#pragma unroll 1
+#endif
+    for (int k = 0; k < N; ++k) {
+      Vec3<T> r1, n;
+      T penetration;
+      if (dj[k] == T{} || !point(k, r1, n, penetration)) continue;
+      const T w = dj[k] / reach;  // in [-1, 1]
+      a += w * res[k];
+      b += w * dot(relative_velocity(Z, r1, Zb, r2), n);
+    }
+    const T alpha = manifold_step_length(a, b);  // eq 99
+    if (alpha < one)
+      for (int k = 0; k < N; ++k) dj[k] = dj[k] * alpha;
+  }
+#if defined(__CUDA_ARCH__)
+#pragma unroll 1
+#endif
+  for (int k = 0; k < N; ++k) {
+    Vec3<T> r1, n;
+    T penetration;
+    if (dj[k] == T{} || !point(k, r1, n, penetration)) continue;
+    ContactState<T> c = load(k);
+    c.j_n += dj[k];  // eq 94: stays >= 0, alpha <= 1
+    store(k, c);
+    apply_impulse(A, r1, B, r2, n * dj[k]);  // eq 87
+    ++counts.normal_impulses;
+  }
+  if (!friction) return;
+  // Friction (eqs 56-62, 88, 95); also re-clamps a friction impulse left
+  // above mu J_n when J_n has since dropped.
+  const BodyView<T> A1 = A, B1 = B;
+  Z.v = Z.w = Zb.v = Zb.w = Vec3<T>{};
+  Vec3<T> dJ[N];
+  T treach{};
+#if defined(__CUDA_ARCH__)
+#pragma unroll 1
+#endif
+  for (int k = 0; k < N; ++k) {
+    dJ[k] = Vec3<T>{};
+    Vec3<T> r1, n;
+    T penetration;
+    if (!point(k, r1, n, penetration)) continue;
+    const ContactState<T> c = load(k);
+    if (!(c.j_n > T{}) && c.j_t == Vec3<T>{}) continue;
+    const Vec3<T> v_tan = tangential_velocity(relative_velocity(A1, r1, B1, r2), n);  // eq 56
+    const bool sliding = length(v_tan) > T{};                                         // eq 57
+    const T k_t = sliding ? inverse_effective_mass(A1, r1, B1, r2, normalize(v_tan)) * split : one;  // eqs 60, 88, 99
+    Vec3<T> j_t = c.j_t;
+    dJ[k] = accumulate_friction_impulse(j_t, v_tan, k_t, c.mu, c.j_n);  // eq 95
+    treach = Num<T>::max(treach, max_abs(dJ[k]));
+    if (count > 1 && !(dJ[k] == Vec3<T>{})) apply_impulse(Z, r1, Zb, r2, dJ[k]);
+  }
+  if (count > 1 && treach > T{}) {
+    T a{}, b{};
+#if defined(__CUDA_ARCH__)
+#pragma unroll 1
+#endif
+    for (int k = 0; k < N; ++k) {
+      Vec3<T> r1, n;
+      T penetration;
+      if (dJ[k] == Vec3<T>{} || !point(k, r1, n, penetration)) continue;
+      const Vec3<T> w{dJ[k].x / treach, dJ[k].y / treach, dJ[k].z / treach};  // in [-1, 1]
+      a -= dot(w, relative_velocity(A1, r1, B1, r2));
+      b += dot(w, relative_velocity(Z, r1, Zb, r2));
+    }
+    const T alpha = manifold_step_length(a, b);  // eq 99
+    if (alpha < one)
+      for (int k = 0; k < N; ++k) dJ[k] = dJ[k] * alpha;
+  }
+#if defined(__CUDA_ARCH__)
+#pragma unroll 1
+#endif
+  for (int k = 0; k < N; ++k) {
+    Vec3<T> r1, n;
+    T penetration;
+    if (dJ[k] == Vec3<T>{} || !point(k, r1, n, penetration)) continue;
+    ContactState<T> c = load(k);
+    c.j_t += dJ[k];
+    store(k, c);
+    apply_impulse(A, r1, B, r2, dJ[k]);  // eqs 61-62, 87
+    ++counts.friction_steps;
+  }
+}
+
+}  // namespace lockstep

@@ -1,0 +1,48 @@
+# Run by CTest (tests/install/CMakeLists.txt): installs BUILD_DIR into
+# WORK_DIR/prefix, builds CONSUMER_DIR against that prefix only, runs it, and
+# compares its output with the expected values. Fails (FATAL_ERROR) at the
+# first step that does not work, printing that step's output.
+cmake_minimum_required(VERSION 3.25)
+foreach(v BUILD_DIR WORK_DIR CONSUMER_DIR CXX DROP_VECTORS)
+  if(NOT DEFINED ${v})
+    message(FATAL_ERROR "install_test.cmake: -D${v}=... is required")
+  endif()
+endforeach()
+if(NOT BUILD_TYPE)
+  set(BUILD_TYPE Release)
+endif()
+set(prefix ${WORK_DIR}/prefix)
+set(consumer_build ${WORK_DIR}/consumer-build)
+file(REMOVE_RECURSE ${WORK_DIR})
+
+function(step name)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "install test: ${name} failed (${rc}):\n${out}\n${err}")
+  endif()
+  set(step_output "${out}" PARENT_SCOPE)
+endfunction()
+
+step("cmake --install" ${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
+# Only the prefix: no package registry, and the source and build trees are
+# not on the consumer's include path (it sees the installed headers only).
+step("configure the consumer" ${CMAKE_COMMAND} -S ${CONSUMER_DIR} -B ${consumer_build}
+  -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_CXX_COMPILER=${CXX} -DCMAKE_BUILD_TYPE=${BUILD_TYPE}
+  -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF -DCMAKE_FIND_USE_SYSTEM_PACKAGE_REGISTRY=OFF)
+step("build the consumer" ${CMAKE_COMMAND} --build ${consumer_build})
+
+step("run fixed_consumer" ${consumer_build}/fixed_consumer)
+string(STRIP "${step_output}" fixed_out)
+if(NOT fixed_out STREQUAL "-1 -65536 81920")
+  message(FATAL_ERROR "install test: fixed_consumer printed '${fixed_out}', expected '-1 -65536 98304'")
+endif()
+
+step("run reference_consumer" ${consumer_build}/reference_consumer)
+string(STRIP "${step_output}" hash)
+file(READ ${DROP_VECTORS} drop)
+string(JSON expected GET "${drop}" hashes 60)
+if(NOT hash STREQUAL expected)
+  message(FATAL_ERROR "install test: the installed engine's drop hash after frame 60 is '${hash}', "
+                      "${DROP_VECTORS} says '${expected}'")
+endif()
+message(STATUS "install test: installed into ${prefix}; consumer built; Q16 ${fixed_out}; drop frame 60 ${hash}")
