@@ -248,15 +248,27 @@ void Pipeline<B>::step() {
   };
   // Gathers the lists of slots [0, n_awake) and [n_awake, n_active), the
   // first time with the work counted and the wakes decided.
+  // The threads of the contact and solver kernels in work order (the
+  // gather writes the keys) when there are enough of them.
+  const bool ordered = contacts && n_awake > 0 && n_awake >= opt_.work_order_min;
+  WorkOrder work;
+  if (ordered) {
+    for (int buf = 0; buf < 2; ++buf) {
+      work_key_[buf].resize(static_cast<std::size_t>(n_));
+      work_slot_[buf].resize(static_cast<std::size_t>(n_));
+    }
+    work = WorkOrder{work_key_[0].data(), work_slot_[0].data()};
+  }
   auto gather = [&](bool first, bool awake_part, bool woken_part) {
     const NeighbourLists l = lists();
     if (awake_part)
       be_.for_n(n_awake, GatherK{active, 0, body_, sc_, awake_grid_.view(), frozen_grid_.view(), false, first, l,
-                                 scal_.data() + 2, wake_flag_.data(), woken_.data(), scal_.data(), ctr_.data()});
+                                 scal_.data() + 2, wake_flag_.data(), woken_.data(), scal_.data(), work,
+                                 ctr_.data()});
     if (woken_part)
       be_.for_n(n_active - n_awake, GatherK{active + n_awake, n_awake, body_, sc_, awake_grid_.view(),
                                             frozen_grid_.view(), true, first, l, scal_.data() + 2, wake_flag_.data(),
-                                            woken_.data(), scal_.data(), ctr_.data()});
+                                            woken_.data(), scal_.data(), work, ctr_.data()});
   };
   // The largest list found (when above the stride): the blocks grow and all
   // lists are gathered again.
@@ -297,14 +309,11 @@ void Pipeline<B>::step() {
   ground_mask_[par].resize(static_cast<std::size_t>(n_active) + 1);
   const SolverData d{active, body_, sc_, nl, dir_count_.data(), sdf_c0_.data(), sdf_c1_.data(),
                      imm_[par].data(), pair_[par].data()};
-  const bool ordered = n_active >= opt_.work_order_min;
-  WorkOrder work;
+  const int* order = nullptr;
   if (ordered) {
-    for (int buf = 0; buf < 2; ++buf) {
-      work_key_[buf].resize(static_cast<std::size_t>(n_active));
-      work_slot_[buf].resize(static_cast<std::size_t>(n_active));
-    }
-    work = WorkOrder{work_key_[0].data(), work_slot_[0].data()};
+    const int r = be_.sort_pairs(work_key_[0].data(), work_slot_[0].data(), work_key_[1].data(),
+                                 work_slot_[1].data(), n_active, work_key_bits(n_active));
+    order = work_slot_[r].data();
   }
   if (n_active > 0) {
     const PreviousContacts prev{frame_ - 1, slot_of_[pp].data(), stamp_[pp].data(),
@@ -312,7 +321,7 @@ void Pipeline<B>::step() {
                                 ground_mask_[pp].data(), pair_[pp].data()};
     be_.for_n(n_active, ContactsK{frame_, d, prev, ContactIndex{slot_of_[par].data(), stamp_[par].data()},
                                   sdf_c0_.data(), sdf_c1_.data(), support_idx_.data(), support_n_.data(),
-                                  dir_count_.data(), ground_mask_[par].data(), work, vel_[1].data(), ang_[1].data(),
+                                  dir_count_.data(), ground_mask_[par].data(), order, vel_[1].data(), ang_[1].data(),
                                   ctr_.data()});
   }
 
@@ -321,12 +330,6 @@ void Pipeline<B>::step() {
   const int iterations = sc_.P.solver_iterations;
   int last = 1;
   if (n_active > 0) {
-    const int* order = nullptr;
-    if (ordered && iterations > 0) {
-      const int r = be_.sort_pairs(work_key_[0].data(), work_slot_[0].data(), work_key_[1].data(),
-                                   work_slot_[1].data(), n_active, work_key_bits(n_active));
-      order = work_slot_[r].data();
-    }
     for (int it = 0; it < iterations; ++it) {
       const int in = it % 2 == 0 ? 1 : 2, out = 3 - in;
       be_.for_n(n_active, SolveK{d, order, vel_[in].data(), ang_[in].data(), vel_[out].data(), ang_[out].data(),

@@ -271,8 +271,8 @@ LS_HD void visit_candidates(const GridView& g, int self, const Vec3<float>& p, c
     for (int y = lo[1]; y <= hi[1]; ++y)
       for (int z = lo[2]; z <= hi[2]; ++z) {
         const unsigned h = grid_key(gp, x, y, z);
-        const CellRange c = ro(g.range + h);
-        const int s = c.start, e = c.end;
+        const CellRange cr = ro(g.range + h);
+        const int s = cr.start, e = cr.end;
         if (s < 0) continue;
         for (int t = s; t < e; ++t) {
           const CellEntry c = ro(g.ent_c + t);
@@ -432,6 +432,32 @@ struct NeighbourLists {
   LS_HD int end(int k) const { return k * stride + count[k]; }
 };
 
+// The threads of the contact and solver kernels in an order of their work
+// (a scheduling choice: each slot's result does not depend on the thread
+// that computes it). A warp runs the union of its threads' paths, so within
+// each segment of 2^11 consecutive slots, slots near the ground (a manifold
+// to solve: the lowest corner of the AABB within the contact tolerance) are
+// put together, then ordered by the length of their neighbour lists. Whole
+// segments keep their place, so that the memory a segment touches stays in
+// the cache while its threads run. The gather writes the key of each slot,
+// sorted with the slots as values (stable: ascending slots within a class).
+struct WorkOrder {
+  unsigned* key = nullptr;
+  int* slot = nullptr;
+};
+inline constexpr int kWorkClassBits = 5, kWorkSegmentBits = 11;
+LS_HD inline unsigned work_key(int slot, bool manifold, int neighbours) {
+  const unsigned m = neighbours < 15 ? static_cast<unsigned>(neighbours) : 15u;
+  const unsigned segment = static_cast<unsigned>(slot) >> kWorkSegmentBits;
+  return (segment << kWorkClassBits) | (manifold ? 0u : 16u) | m;
+}
+// The key bits to sort for n slots.
+inline int work_key_bits(int n) {
+  int bits = kWorkClassBits;
+  for (unsigned s = static_cast<unsigned>(n - 1) >> kWorkSegmentBits; s != 0; s >>= 1) ++bits;
+  return bits;
+}
+
 // Stages 2-4: each active body gathers the bodies whose (grown) AABB overlaps
 // its own, up to `stride` of them (the count goes on: the host enlarges the
 // blocks and gathers again when one overflows), and wakes (eq 81) sleeping
@@ -451,6 +477,7 @@ struct GatherK {
   int* wake_flag;
   int* woken;
   int* n_woken;
+  WorkOrder order;  // keys to write, or none
   Counter* ctr;
   LS_HD void operator()(int k) const {
     const int i = ro(list + k);
@@ -489,6 +516,10 @@ struct GatherK {
     }
     lists.count[slot] = m < lists.stride ? m : lists.stride;
     if (m > lists.stride) store_max(max_count, m);
+    if (order.key != nullptr) {
+      order.key[slot] = work_key(slot, sc.ground_on && p.y - a.y < sc.ground_y + sc.P.contact_tolerance, m);
+      order.slot[slot] = slot;
+    }
     if (count_work) {
       add_counter(&ctr[kCPairsTested], tested);
       add_counter(&ctr[kCBodyContacts], contacts);
@@ -608,31 +639,6 @@ struct PreviousContacts {
   }
 };
 
-// The solver's threads in an order of their work (a scheduling choice: each
-// slot's result does not depend on the thread that computes it). A warp runs
-// the union of its threads' paths, so within each segment of 2^11 consecutive
-// slots, slots with contacts with immovable things (a manifold to solve) are
-// put together, then ordered by the length of their neighbour lists. Whole
-// segments keep their place, so that the memory a segment touches stays in
-// the cache while its threads run. The key of a slot, sorted with the slots
-// as values (stable: ascending slots within a class).
-struct WorkOrder {
-  unsigned* key = nullptr;
-  int* slot = nullptr;
-};
-inline constexpr int kWorkClassBits = 5, kWorkSegmentBits = 11;
-LS_HD inline unsigned work_key(int slot, unsigned immovable_contacts, int neighbours) {
-  const unsigned m = neighbours < 15 ? static_cast<unsigned>(neighbours) : 15u;
-  const unsigned segment = static_cast<unsigned>(slot) >> kWorkSegmentBits;
-  return (segment << kWorkClassBits) | (immovable_contacts > 0 ? 0u : 16u) | m;
-}
-// The key bits to sort for n slots.
-inline int work_key_bits(int n) {
-  int bits = kWorkClassBits;
-  for (unsigned s = static_cast<unsigned>(n - 1) >> kWorkSegmentBits; s != 0; s >>= 1) ++bits;
-  return bits;
-}
-
 // Stages 3 and 5 (preparation): each active body
 // - sorts its neighbour list (ascending index);
 // - finds its contacts in World<T>'s order (ground corners, SDF samples,
@@ -664,13 +670,14 @@ struct ContactsK {
   F4* support_n;
   Counter* dir_count;
   int* ground_mask;  // this frame's, per slot
-  WorkOrder order;   // keys for the solver's thread order, or none
+  const int* order;  // thread -> slot (WorkOrder), or null: thread k is slot k
   F4* vout;
   F4* wout;
   Counter* ctr;
-  LS_HD void operator()(int k) const {
+  LS_HD void operator()(int thread) const {
     const BodyArrays& b = d.b;
     const SceneConsts& sc = d.sc;
+    const int k = order != nullptr ? ro(order + thread) : thread;
     const int i = ro(d.list + k);
     int* nbr = d.lists.nbr;
     const int beg = d.lists.begin(k), m = d.lists.count[k];
@@ -791,10 +798,6 @@ struct ContactsK {
     add_counter(&ctr[kCGroundContacts], ground_contacts);
     add_counter(&ctr[kCSdfContacts], sdf_contacts);
     add_counter(&ctr[kCRestitutionBounces], counts.restitution_bounces);
-    if (order.key != nullptr) {
-      order.key[k] = work_key(k, ground_contacts + sdf_contacts, m);
-      order.slot[k] = k;
-    }
   }
 };
 
@@ -1087,7 +1090,7 @@ struct CommitSleepK {
       int counter = b.sleep_counter[i];
       const bool supported = support_idx[i] != kNoSupport;
       const Vec3<float> up = supported ? xyz(support_n[i]) : Vec3<float>{0.0f, Num<float>::from_int(1), 0.0f};
-      asleep = update_sleep(v, w, counter, supported, R, up, sc.P);
+      asleep = update_sleep(v, w, counter, supported, R, up, length(xyz(b.half[i])), sc.P);
       b.sleep_counter[i] = counter;
       b.vel[i] = f4(v, 0.0f);
       b.ang[i] = f4(w, 0.0f);

@@ -34,7 +34,7 @@ void World<T>::update_sleep() {
     ++counters_.sleep_updates;
     const bool supported = support_[i] >= 0;
     const Vec3<T> up = supported ? support_normal(i) : Vec3<T>{T{}, Num<T>::from_int(1), T{}};
-    if (lockstep::update_sleep(b.v, b.w, b.sleep_counter, supported, b.R, up, P_)) {  // eqs 78-80
+    if (lockstep::update_sleep(b.v, b.w, b.sleep_counter, supported, b.R, up, length(b.half), P_)) {  // eqs 78-80
       b.asleep = true;
       b.sleep_frame = frame_;
     }

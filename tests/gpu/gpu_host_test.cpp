@@ -82,9 +82,9 @@ TEST(GpuHost, RunToRunDeterministic) {
   }
 }
 
-// The solver's threads in an order of their work (GpuOptions::
+// The contact and solver threads in an order of their work (GpuOptions::
 // work_order_min) compute the same bits as in slot order.
-TEST(GpuHost, SolverWorkOrderDoesNotChangeResults) {
+TEST(GpuHost, WorkOrderDoesNotChangeResults) {
   for (const auto& [name, frames] : {std::pair<const char*, int>{"pile1000", 80}, {"bowl", 150}}) {
     SCOPED_TRACE(name);
     const Scene s = scene(name);

@@ -371,10 +371,17 @@ TEST(SettleTest, Eq77LinearSettling) {
 }
 // eqs 78-80: candidate, drowsy, asleep.
 TEST(SleepTest, Eq78To80Stages) {
-  EXPECT_TRUE(sleep_candidate(true, 0.01, 0.01, 0.999, P));
-  EXPECT_FALSE(sleep_candidate(false, 0.01, 0.01, 0.999, P));
-  EXPECT_FALSE(sleep_candidate(true, 0.06, 0.01, 0.999, P));
-  EXPECT_FALSE(sleep_candidate(true, 0.01, 0.01, 0.98, P));
+  EXPECT_TRUE(sleep_candidate(true, 0.01, 0.01, 0.999, 0.87, P));
+  EXPECT_FALSE(sleep_candidate(false, 0.01, 0.01, 0.999, 0.87, P));
+  EXPECT_FALSE(sleep_candidate(true, 0.06, 0.01, 0.999, 0.87, P));
+  EXPECT_FALSE(sleep_candidate(true, 0.01, 0.01, 0.98, 0.87, P));
+  EXPECT_FALSE(sleep_candidate(true, 0.01, 0.06, 0.999, 0.87, P));  // spinning
+  // A small body (half-diagonal below 0.5 m) is judged by its corner speed
+  // |w| r < 0.05 rad/s * 0.5 m: a 2 cm cube (r = 0.0173 m) at 1 rad/s moves
+  // its corners at 1.7 cm/s and is a candidate; at 2 rad/s it is not.
+  EXPECT_TRUE(sleep_candidate(true, 0.01, 1.0, 0.999, 0.0173, P));
+  EXPECT_FALSE(sleep_candidate(true, 0.01, 2.0, 0.999, 0.0173, P));
+  EXPECT_FALSE(sleep_candidate(true, 0.01, 0.06, 0.999, 0.5, P));  // 0.5 m is not small
   EXPECT_EQ(sleep_stage(9, 10, 30), SleepStage::kAwake);
   EXPECT_EQ(sleep_stage(10, 10, 30), SleepStage::kDrowsy);
   EXPECT_EQ(sleep_stage(30, 10, 30), SleepStage::kAsleep);

@@ -297,7 +297,7 @@ Json f_combined_friction(In in, const std::string& p) {
 }
 Json f_sleep_candidate(In in, const std::string& p) {
   return Json{{"candidate", sleep_candidate(bool_at(in, "supported", p), q16_at(in, "speed", p), q16_at(in, "spin", p),
-                                            q16_at(in, "alignment", p), params_at(in, p))}};
+                                            q16_at(in, "alignment", p), q16_at(in, "radius", p), params_at(in, p))}};
 }
 Json f_sleep_stage(In in, const std::string& p) {
   const SleepStage s =
@@ -456,7 +456,8 @@ const std::vector<Formula>& formulas() {
       {"combined_friction", {58}, "sqrt(mu1 * mu2)", f_combined_friction},
       {"sleep_candidate",
        {78},
-       "supported and speed < sleep_linear and spin < sleep_angular and alignment > sleep_alignment",
+       "supported and speed < sleep_linear and (spin * radius < sleep_corner_speed if radius < sleep_small_radius, "
+       "else spin < sleep_angular) and alignment > sleep_alignment",
        f_sleep_candidate},
       {"sleep_stage",
        {79, 80},
@@ -694,8 +695,9 @@ std::vector<Case> cases_for(const std::string& fn, Rng& rng) {
     } else if (fn == "sleep_candidate") {
       in = {{"supported", k % 4 != 0},
             {"speed", to_json(rng.q16(0, 0.07))},
-            {"spin", to_json(rng.q16(0, 0.07))},
-            {"alignment", to_json(rng.q16(0.985, 1))}};
+            {"spin", to_json(k % 3 == 0 ? rng.q16(0, 3) : rng.q16(0, 0.07))},
+            {"alignment", to_json(rng.q16(0.985, 1))},
+            {"radius", to_json(k % 3 == 0 ? rng.q16(0.005, 0.6) : rng.q16(0.3, 2))}};
     } else if (fn == "sleep_stage") {
       in = {{"counter", k + 4 * (k / 6)}, {"drowsy_frames", P.drowsy_frames}, {"sleep_frames", P.sleep_frames}};
       add(in, "", {"Sweep"});
@@ -813,11 +815,18 @@ std::vector<Case> cases_for(const std::string& fn, Rng& rng) {
       add({{"w", Json::array({kOne, -kOne, 3})}, {"alignment", to_json(a)}},
           "alignment exactly at a threshold (strict >)", {"Edge"});
   } else if (fn == "sleep_candidate") {
-    add({{"supported", true}, {"speed", to_json(P.sleep_linear)}, {"spin", 0}, {"alignment", kOne}},
+    const Json r1 = to_json(Q16::from_int(1));
+    add({{"supported", true}, {"speed", to_json(P.sleep_linear)}, {"spin", 0}, {"alignment", kOne}, {"radius", r1}},
         "speed exactly sleep_linear (strict <)", {"Edge"});
-    add({{"supported", true}, {"speed", 0}, {"spin", 0}, {"alignment", to_json(P.sleep_alignment)}},
+    add({{"supported", true}, {"speed", 0}, {"spin", 0}, {"alignment", to_json(P.sleep_alignment)}, {"radius", r1}},
         "alignment exactly sleep_alignment (strict >)", {"Edge"});
-    add({{"supported", true}, {"speed", 0}, {"spin", 0}, {"alignment", kOne}}, "at rest and flat", {"Edge"});
+    add({{"supported", true}, {"speed", 0}, {"spin", 0}, {"alignment", kOne}, {"radius", r1}}, "at rest and flat", {"Edge"});
+    add({{"supported", true}, {"speed", 0}, {"spin", to_json(P.sleep_angular)}, {"alignment", kOne},
+         {"radius", to_json(P.sleep_small_radius)}},
+        "radius exactly sleep_small_radius: the |w| test (strict <)", {"Edge"});
+    add({{"supported", true}, {"speed", 0}, {"spin", to_json(Q16::from_int(2))}, {"alignment", kOne},
+         {"radius", to_json(Q16::from_double(0.0125))}},
+        "a small body: |w| r exactly sleep_corner_speed (strict <)", {"Edge"});
   } else if (fn == "wakes") {
     add({{"v_n", to_json(-P.wake_speed)}, {"penetration", 0}}, "approach exactly wake_speed (strict >)", {"Edge"});
     add({{"v_n", 0}, {"penetration", to_json(P.wake_penetration)}}, "penetration exactly wake_penetration (strict >)",
@@ -900,7 +909,8 @@ Json shared_for(const std::string& fn) {
   if (fn == "regime_damping")
     return shared_params({"align_fine", "align_good", "align_fair", "damp_fine", "damp_good", "damp_fair"});
   if (fn == "settle_linear") return shared_params({"settle_speed", "settle_factor"});
-  if (fn == "sleep_candidate") return shared_params({"sleep_linear", "sleep_angular", "sleep_alignment"});
+  if (fn == "sleep_candidate")
+    return shared_params({"sleep_linear", "sleep_angular", "sleep_alignment", "sleep_small_radius", "sleep_corner_speed"});
   if (fn == "wakes") return shared_params({"wake_speed", "wake_penetration"});
   if (fn == "contact_target_velocity") return shared_params({"dt", "inv_dt"});
   if (fn == "manifold_visit") return shared_params({"dt", "inv_dt", "gravity"});

@@ -83,6 +83,8 @@ const std::vector<ParamField>& param_fields() {
       {"settle_factor", &P::settle_factor, nullptr, nullptr},
       {"sleep_linear", &P::sleep_linear, nullptr, nullptr},
       {"sleep_angular", &P::sleep_angular, nullptr, nullptr},
+      {"sleep_small_radius", &P::sleep_small_radius, nullptr, nullptr},
+      {"sleep_corner_speed", &P::sleep_corner_speed, nullptr, nullptr},
       {"sleep_alignment", &P::sleep_alignment, nullptr, nullptr},
       {"drowsy_damping", &P::drowsy_damping, nullptr, nullptr},
       {"drowsy_frames", nullptr, nullptr, &P::drowsy_frames},

@@ -36,11 +36,11 @@ struct GpuOptions {
   // Jacobi relaxation of body-body impulses: a body adds relaxation / m times
   // the sum of its m approaching body-body contacts' velocity changes.
   float relaxation = 1.0f;
-  // From this many active bodies on, the solver's iterations run their
-  // bodies in an order of their work (within segments of 2048 slots:
-  // contacts with immovable things first, then by neighbour count, so that
-  // the threads of a warp take the same path), at the cost of one radix sort
-  // per frame. A scheduling choice only: the results are the same bits
+  // From this many awake bodies on, the contact preparation and the solver's
+  // iterations run their bodies in an order of their work (within segments
+  // of 2048 slots: bodies near the ground first, then by neighbour count, so
+  // that the threads of a warp take the same path), at the cost of one radix
+  // sort per frame. A scheduling choice only: the results are the same bits
   // either way.
   int work_order_min = 32768;
   bool stage_timing = false;  // per-stage times (CUDA events on the device)

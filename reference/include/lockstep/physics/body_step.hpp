@@ -54,14 +54,15 @@ LS_HD void integrate_pose(Vec3<T>& p, Quat<T>& q, const Vec3<T>& v, const Vec3<T
 }
 
 // Stage 9 (eqs 78-80) for one awake body; `up` is its support normal (4.1),
-// (0, 1, 0) when unsupported; `counter` is its sleep counter (eq 78).
+// (0, 1, 0) when unsupported; `counter` is its sleep counter (eq 78);
+// `radius` its half-diagonal |h| (m).
 // Returns true when it falls asleep (v and w are then zeroed, eq 80).
 template <class T>
 LS_HD bool update_sleep(Vec3<T>& v, Vec3<T>& w, int& counter, bool supported, const Mat3<T>& R, const Vec3<T>& up,
-                        const Params<T>& P) {
+                        const T& radius, const Params<T>& P) {
   const T speed = length(v), spin = length(w);
   const Alignment<T> al = alignment_of(R, up);
-  if (sleep_candidate(supported, speed, spin, al.alignment, P)) ++counter;  // eq 78
+  if (sleep_candidate(supported, speed, spin, al.alignment, radius, P)) ++counter;  // eq 78
   else counter = 0;
   switch (sleep_stage(counter, P.drowsy_frames, P.sleep_frames)) {
     case SleepStage::kAsleep:  // eq 80

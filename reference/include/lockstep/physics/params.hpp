@@ -25,6 +25,9 @@ struct Params {
   T restitution_min_speed;          // eq 76
   T settle_speed, settle_factor;    // eq 77: factor = 1 - settle_damping
   T sleep_linear, sleep_angular, sleep_alignment, drowsy_damping;  // eqs 78-79
+  // eq 78 for small bodies: below this half-diagonal (m), 0.5 m, the spin
+  // test is on the corner speed |w| r < sleep_angular * 0.5 m.
+  T sleep_small_radius, sleep_corner_speed;
   int drowsy_frames, sleep_frames;  // eqs 79-80
   T wake_speed, wake_penetration;   // eq 81
   T righting_min_axis;              // 2^-12: below it the righting axis (68) is undefined
@@ -61,6 +64,8 @@ struct Params {
     p.settle_factor = n(1.0) - n(c.settle_damping);
     p.sleep_linear = n(c.sleep_linear);
     p.sleep_angular = n(c.sleep_angular);
+    p.sleep_small_radius = n(0.5);
+    p.sleep_corner_speed = n(c.sleep_angular * 0.5);
     p.sleep_alignment = n(c.sleep_alignment);
     p.drowsy_damping = n(c.drowsy_damping);
     p.drowsy_frames = c.drowsy_frames;

@@ -4,10 +4,16 @@
 
 namespace lockstep {
 
-// eq 78: a sleep candidate is supported, slow, not spinning and flat.
+// eq 78: a sleep candidate is supported, slow, not spinning and flat. A body
+// whose half-diagonal `radius` (m) is below sleep_small_radius (0.5 m) is
+// "not spinning" when its corners move slower than sleep_angular * 0.5 m
+// (|w| radius < sleep_corner_speed): the spin that rounding leaves in a
+// 2 cm cube in Q16.16 (0.1-0.2 rad/s, its corners at 3 mm/s) kept it awake.
 template <class T>
-LS_HD bool sleep_candidate(bool supported, const T& speed, const T& spin, const T& alignment, const Params<T>& P) {
-  return supported && speed < P.sleep_linear && spin < P.sleep_angular && alignment > P.sleep_alignment;
+LS_HD bool sleep_candidate(bool supported, const T& speed, const T& spin, const T& alignment, const T& radius,
+                           const Params<T>& P) {
+  const bool still = radius < P.sleep_small_radius ? spin * radius < P.sleep_corner_speed : spin < P.sleep_angular;
+  return supported && speed < P.sleep_linear && still && alignment > P.sleep_alignment;
 }
 
 enum class SleepStage : int { kAwake = 0, kDrowsy = 1, kAsleep = 2 };
