@@ -59,8 +59,8 @@ TEST(GpuDevice, MatchesHostBuildBitForBit) {
   }
 }
 
-// The device's contact and solver kernels with their threads in work order
-// (a CUB radix sort of the slots) give the host build's bits in slot order.
+// The device's solver with its threads in work order (a CUB radix sort of
+// the slots) gives the host build's bits in slot order.
 TEST(GpuDevice, WorkOrderMatchesHostBuild) {
   LOCKSTEP_REQUIRE_DEVICE();
   for (const auto& [name, frames] : {std::pair<const char*, int>{"pile1000", 200}, {"bowl", 200}}) {

@@ -82,7 +82,7 @@ TEST(GpuHost, RunToRunDeterministic) {
   }
 }
 
-// The contact and solver threads in an order of their work (GpuOptions::
+// The solver's threads in an order of their work (GpuOptions::
 // work_order_min) compute the same bits as in slot order.
 TEST(GpuHost, WorkOrderDoesNotChangeResults) {
   for (const auto& [name, frames] : {std::pair<const char*, int>{"pile1000", 80}, {"bowl", 150}}) {

@@ -132,6 +132,50 @@ LS_HD void solve_contact(BodyView<T>& A, const Vec3<T>& r1, BodyView<T>& B, cons
   }
 }
 
+// Eq 99's step length for the impulses that a manifold's points propose
+// together: `impulse(k, n)` is point k's proposed impulse (0: none) and
+// `pull(k, r1, n)` the velocity change it asks for, both in world axes; `A`,
+// `B` the two sides (B immovable; only their masses and inertia are used).
+// With R the largest component of any impulse (a common scale that keeps the
+// sums inside Q16.16), a = sum_k (J_k / R) . pull_k and b = sum_k (J_k / R) . dv_k,
+// dv_k being the velocity change at point k that all impulses cause together.
+template <int N, class T, class Point, class Impulse, class Pull>
+LS_HD T manifold_step(const BodyView<T>& A, const BodyView<T>& B, const Point& point, const Impulse& impulse,
+                      const Pull& pull) {
+  const Vec3<T> r2{};
+  BodyView<T> Z = A, Zb = B;  // the sides at rest: they gather the impulses' velocity change
+  Z.v = Z.w = Zb.v = Zb.w = Vec3<T>{};
+  T reach{};
+#if defined(__CUDA_ARCH__)
+#pragma unroll 1
+#endif
+  for (int k = 0; k < N; ++k) {
+    Vec3<T> r1, n;
+    T penetration;
+    if (!point(k, r1, n, penetration)) continue;
+    const Vec3<T> J = impulse(k, n);
+    if (J == Vec3<T>{}) continue;
+    apply_impulse(Z, r1, Zb, r2, J);
+    reach = Num<T>::max(reach, max_abs(J));
+  }
+  if (!(reach > T{})) return Num<T>::from_int(1);
+  T a{}, b{};
+#if defined(__CUDA_ARCH__)
+#pragma unroll 1
+#endif
+  for (int k = 0; k < N; ++k) {
+    Vec3<T> r1, n;
+    T penetration;
+    if (!point(k, r1, n, penetration)) continue;
+    const Vec3<T> J = impulse(k, n);
+    if (J == Vec3<T>{}) continue;
+    const Vec3<T> w{J.x / reach, J.y / reach, J.z / reach};  // in [-1, 1]
+    a += dot(w, pull(k, r1, n));
+    b += dot(w, relative_velocity(Z, r1, Zb, r2));
+  }
+  return manifold_step_length(a, b);
+}
+
 // One solver visit of a manifold (eq 99): a body A's contacts with one
 // immovable environment object B (its ground corners, its samples of one SDF
 // volume; r2 = 0), solved Jacobi-style so that a symmetric landing stays
@@ -170,12 +214,7 @@ LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point, co
     if (count == 0) return;
     if (count > 1 && o > one) split = o;
   }
-  // The velocity change that a set of impulses causes at the points, for
-  // eq 99's b: A and B without their velocities.
-  BodyView<T> Z = A, Zb = B;
-  Z.v = Z.w = Zb.v = Zb.w = Vec3<T>{};
   T dj[N], res[N];
-  T reach{};  // the largest |dj|: eq 99's common scale
 #if defined(__CUDA_ARCH__)
 #pragma unroll 1
 #endif
@@ -193,23 +232,11 @@ LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point, co
     T j_n = c.j_n;
     dj[k] = accumulate_normal_impulse(j_n, v_n, target, c.k_n * split);  // eqs 53, 94, 99
     res[k] = target - v_n;
-    reach = Num<T>::max(reach, Num<T>::abs(dj[k]));
-    if (count > 1 && dj[k] != T{}) apply_impulse(Z, r1, Zb, r2, n * dj[k]);
   }
-  if (count > 1 && reach > T{}) {
-    T a{}, b{};
-#if defined(__CUDA_ARCH__)
-#pragma unroll 1
-#endif
-    for (int k = 0; k < N; ++k) {
-      Vec3<T> r1, n;
-      T penetration;
-      if (dj[k] == T{} || !point(k, r1, n, penetration)) continue;
-      const T w = dj[k] / reach;  // in [-1, 1]
-      a += w * res[k];
-      b += w * dot(relative_velocity(Z, r1, Zb, r2), n);
-    }
-    const T alpha = manifold_step_length(a, b);  // eq 99
+  if (count > 1) {
+    const T alpha = manifold_step<N>(
+        A, B, point, [&](int k, const Vec3<T>& n) { return n * dj[k]; },
+        [&](int k, const Vec3<T>&, const Vec3<T>& n) { return n * res[k]; });  // eq 99
     if (alpha < one)
       for (int k = 0; k < N; ++k) dj[k] = dj[k] * alpha;
   }
@@ -230,9 +257,7 @@ LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point, co
   // Friction (eqs 56-62, 88, 95); also re-clamps a friction impulse left
   // above mu J_n when J_n has since dropped.
   const BodyView<T> A1 = A, B1 = B;
-  Z.v = Z.w = Zb.v = Zb.w = Vec3<T>{};
   Vec3<T> dJ[N];
-  T treach{};
 #if defined(__CUDA_ARCH__)
 #pragma unroll 1
 #endif
@@ -248,23 +273,11 @@ LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point, co
     const T k_t = sliding ? inverse_effective_mass(A1, r1, B1, r2, normalize(v_tan)) * split : one;  // eqs 60, 88, 99
     Vec3<T> j_t = c.j_t;
     dJ[k] = accumulate_friction_impulse(j_t, v_tan, k_t, c.mu, c.j_n);  // eq 95
-    treach = Num<T>::max(treach, max_abs(dJ[k]));
-    if (count > 1 && !(dJ[k] == Vec3<T>{})) apply_impulse(Z, r1, Zb, r2, dJ[k]);
   }
-  if (count > 1 && treach > T{}) {
-    T a{}, b{};
-#if defined(__CUDA_ARCH__)
-#pragma unroll 1
-#endif
-    for (int k = 0; k < N; ++k) {
-      Vec3<T> r1, n;
-      T penetration;
-      if (dJ[k] == Vec3<T>{} || !point(k, r1, n, penetration)) continue;
-      const Vec3<T> w{dJ[k].x / treach, dJ[k].y / treach, dJ[k].z / treach};  // in [-1, 1]
-      a -= dot(w, relative_velocity(A1, r1, B1, r2));
-      b += dot(w, relative_velocity(Z, r1, Zb, r2));
-    }
-    const T alpha = manifold_step_length(a, b);  // eq 99
+  if (count > 1) {
+    const T alpha = manifold_step<N>(
+        A1, B1, point, [&](int k, const Vec3<T>&) { return dJ[k]; },
+        [&](int, const Vec3<T>& r1, const Vec3<T>&) { return -relative_velocity(A1, r1, B1, r2); });  // eq 99
     if (alpha < one)
       for (int k = 0; k < N; ++k) dJ[k] = dJ[k] * alpha;
   }
