@@ -8,9 +8,11 @@
 # QUICK=1: only the awake and asleep piles of SIZES (default 10^6) with the
 # stage breakdown, for each of the comma-separated binary folders in BIN
 # (each holding a gpu_bench): versions compared in one call.
-# NCU=0: no Nsight Compute pass; NCU=detail: also the speed-of-light,
-# occupancy, memory and warp-state sections of the heavy kernels (the last
-# folder's gpu_bench).
+# CPU_SIZES (default 10000,100000): the CPU engines' sizes in the full run
+# ("" for none). NCU=0: no Nsight Compute pass; NCU=detail: also the
+# speed-of-light, occupancy, memory, scheduler, instruction, warp-state and
+# source-counter sections of the first NCU_COUNT (4) of the gather, contact,
+# solver and correction kernels (the last folder's gpu_bench).
 set -u
 BIN=${1:-build-gpu-carry}
 OUT=${OUT:-/tmp/lockstep-gpu-out}

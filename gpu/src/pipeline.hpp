@@ -185,8 +185,8 @@ class Pipeline final : public PipelineBase {
   int stride_[2] = {16, 16};  // neighbour-list block per slot
   Buf<ContactRecord> pair_[2], imm_[2];
   Buf<int> ground_mask_[2];  // per slot: the ground corners in contact
-  Buf<unsigned> work_key_[2];  // the awake list's work order (WorkOrder), sorted from 0 into r
-  Buf<int> work_list_[2];      // the awake list in work order (then the frame's active list)
+  Buf<unsigned> work_key_[2];  // the solver's thread order (WorkOrder), sorted from 0 into r
+  Buf<int> work_slot_[2];
   Buf<Counter> dir_count_;
   Buf<F4> sdf_c0_, sdf_c1_, support_n_;
   Buf<int> support_idx_;
@@ -207,26 +207,11 @@ void Pipeline<B>::step() {
   int* active = list_[cur_].data();
   const bool contacts = fx_.contacts && n_ >= 2;
 
-  // 1: velocity integration; the awake list in work order (WorkOrder) when
-  // it is long enough.
+  // 1: velocity integration.
   be_.mark(kStageIntegrate);
-  const bool ordered = contacts && n_awake > 0 && n_awake >= opt_.work_order_min;
-  WorkOrder work;
-  if (ordered) {
-    for (int buf = 0; buf < 2; ++buf) {
-      work_key_[buf].resize(static_cast<std::size_t>(n_));
-      work_list_[buf].resize(static_cast<std::size_t>(n_));
-    }
-    work = WorkOrder{work_key_[0].data(), work_list_[0].data()};
-  }
   if (n_awake > 0 && (fx_.gravity || fx_.damping || contacts)) {
     awake_grid_.bounds.resize(static_cast<std::size_t>(n_awake));
-    be_.for_n(n_awake, IntegrateVelocityK{active, body_, sc_, contacts ? awake_grid_.bounds.data() : nullptr, work});
-  }
-  if (ordered) {  // the frame runs over the sorted copy; the next frame's list is compacted from it
-    const int r = be_.sort_pairs(work_key_[0].data(), work_list_[0].data(), work_key_[1].data(),
-                                 work_list_[1].data(), n_awake, work_key_bits(n_awake));
-    active = work_list_[r].data();
+    be_.for_n(n_awake, IntegrateVelocityK{active, body_, sc_, contacts ? awake_grid_.bounds.data() : nullptr});
   }
   if (fx_.gravity) counters_.integrate_velocity += static_cast<std::uint64_t>(n_awake);
   if (fx_.damping) counters_.damping += static_cast<std::uint64_t>(n_awake);
@@ -263,15 +248,27 @@ void Pipeline<B>::step() {
   };
   // Gathers the lists of slots [0, n_awake) and [n_awake, n_active), the
   // first time with the work counted and the wakes decided.
+  // The threads of the solver's iterations in work order (the gather writes
+  // the keys) when there are enough of them.
+  const bool ordered = contacts && n_awake > 0 && n_awake >= opt_.work_order_min;
+  WorkOrder work;
+  if (ordered) {
+    for (int buf = 0; buf < 2; ++buf) {
+      work_key_[buf].resize(static_cast<std::size_t>(n_));
+      work_slot_[buf].resize(static_cast<std::size_t>(n_));
+    }
+    work = WorkOrder{work_key_[0].data(), work_slot_[0].data()};
+  }
   auto gather = [&](bool first, bool awake_part, bool woken_part) {
     const NeighbourLists l = lists();
     if (awake_part)
       be_.for_n(n_awake, GatherK{active, 0, body_, sc_, awake_grid_.view(), frozen_grid_.view(), false, first, l,
-                                 scal_.data() + 2, wake_flag_.data(), woken_.data(), scal_.data(), ctr_.data()});
+                                 scal_.data() + 2, wake_flag_.data(), woken_.data(), scal_.data(), work,
+                                 ctr_.data()});
     if (woken_part)
       be_.for_n(n_active - n_awake, GatherK{active + n_awake, n_awake, body_, sc_, awake_grid_.view(),
                                             frozen_grid_.view(), true, first, l, scal_.data() + 2, wake_flag_.data(),
-                                            woken_.data(), scal_.data(), ctr_.data()});
+                                            woken_.data(), scal_.data(), work, ctr_.data()});
   };
   // The largest list found (when above the stride): the blocks grow and all
   // lists are gathered again.
@@ -327,9 +324,15 @@ void Pipeline<B>::step() {
   const int iterations = sc_.P.solver_iterations;
   int last = 1;
   if (n_active > 0) {
+    const int* order = nullptr;
+    if (ordered && iterations > 0) {
+      const int r = be_.sort_pairs(work_key_[0].data(), work_slot_[0].data(), work_key_[1].data(),
+                                   work_slot_[1].data(), n_active, work_key_bits(n_active));
+      order = work_slot_[r].data();
+    }
     for (int it = 0; it < iterations; ++it) {
       const int in = it % 2 == 0 ? 1 : 2, out = 3 - in;
-      be_.for_n(n_active, SolveK{d, vel_[in].data(), ang_[in].data(), vel_[out].data(), ang_[out].data(),
+      be_.for_n(n_active, SolveK{d, order, vel_[in].data(), ang_[in].data(), vel_[out].data(), ang_[out].data(),
                                  ctr_.data()});
       last = out;
     }

@@ -335,43 +335,14 @@ LS_HD inline void store_state(const ContactState<float>& c, F4& a, F4& b) {
   b = {c.v_n0, c.e, c.mu, c.k_n};
 }
 
-// The awake list in an order of the bodies' work. A warp runs the union of
-// its 32 threads' paths; in a pile the slots alternate between bodies on the
-// ground (an 8-point manifold to solve) and bodies on other bodies. So from
-// GpuOptions::work_order_min awake bodies on, the list is sorted at the
-// start of each frame, within each segment of 2^11 consecutive slots, by
-// whether the body's AABB reaches within the contact tolerance of the
-// ground: the contact and solver kernels then run their warps along one
-// path, and all per-slot arrays stay in slot order. Whole segments keep
-// their place, so a segment's memory stays in the cache while its warps run.
-// The order of the awake list does not change any result (each body's sums
-// run over its neighbour list, sorted by body index). The key of slot k,
-// sorted with the bodies as values (stable).
-struct WorkOrder {
-  unsigned* key = nullptr;
-  int* body = nullptr;
-};
-inline constexpr int kWorkClassBits = 1, kWorkSegmentBits = 11;
-LS_HD inline unsigned work_key(int slot, bool near_ground) {
-  const unsigned segment = static_cast<unsigned>(slot) >> kWorkSegmentBits;
-  return (segment << kWorkClassBits) | (near_ground ? 0u : 1u);
-}
-// The key bits to sort for n slots.
-inline int work_key_bits(int n) {
-  int bits = kWorkClassBits;
-  for (unsigned s = static_cast<unsigned>(n - 1) >> kWorkSegmentBits; s != 0; s >>= 1) ++bits;
-  return bits;
-}
-
 // ---------------------------------------------------------------------------
 // Stage 1: velocity integration of the awake bodies; also gathers what the
-// awake grid needs of each (Bounds) and the work order's keys.
+// awake grid needs of each (Bounds).
 struct IntegrateVelocityK {
   const int* list;
   BodyArrays b;
   SceneConsts sc;
   Bounds* bounds;  // per slot, or null
-  WorkOrder order;  // keys to write, or none
   LS_HD void operator()(int k) const {
     const int i = list[k];
     if (sc.gravity || sc.damping) {
@@ -381,11 +352,6 @@ struct IntegrateVelocityK {
       b.ang[i] = f4(w, 0.0f);
     }
     if (bounds != nullptr) bounds[k] = bounds_of(b.pos[i], b.aabb[i]);
-    if (order.key != nullptr) {
-      const float lowest = b.pos[i].y - b.aabb[i].y;
-      order.key[k] = work_key(k, sc.ground_on && lowest < sc.ground_y + sc.P.contact_tolerance);
-      order.body[k] = i;
-    }
   }
 };
 
@@ -466,6 +432,32 @@ struct NeighbourLists {
   LS_HD int end(int k) const { return k * stride + count[k]; }
 };
 
+// The threads of the solver's iterations in an order of their work (a
+// scheduling choice: each slot's result does not depend on the thread that
+// computes it). A warp runs the union of its threads' paths, so within
+// each segment of 2^11 consecutive slots, slots near the ground (a manifold
+// to solve: the lowest corner of the AABB within the contact tolerance) are
+// put together, then ordered by the length of their neighbour lists. Whole
+// segments keep their place, so that the memory a segment touches stays in
+// the cache while its threads run. The gather writes the key of each slot,
+// sorted with the slots as values (stable: ascending slots within a class).
+struct WorkOrder {
+  unsigned* key = nullptr;
+  int* slot = nullptr;
+};
+inline constexpr int kWorkClassBits = 5, kWorkSegmentBits = 11;
+LS_HD inline unsigned work_key(int slot, bool manifold, int neighbours) {
+  const unsigned m = neighbours < 15 ? static_cast<unsigned>(neighbours) : 15u;
+  const unsigned segment = static_cast<unsigned>(slot) >> kWorkSegmentBits;
+  return (segment << kWorkClassBits) | (manifold ? 0u : 16u) | m;
+}
+// The key bits to sort for n slots.
+inline int work_key_bits(int n) {
+  int bits = kWorkClassBits;
+  for (unsigned s = static_cast<unsigned>(n - 1) >> kWorkSegmentBits; s != 0; s >>= 1) ++bits;
+  return bits;
+}
+
 // Stages 2-4: each active body gathers the bodies whose (grown) AABB overlaps
 // its own, up to `stride` of them (the count goes on: the host enlarges the
 // blocks and gathers again when one overflows), and wakes (eq 81) sleeping
@@ -485,6 +477,7 @@ struct GatherK {
   int* wake_flag;
   int* woken;
   int* n_woken;
+  WorkOrder order;  // keys to write, or none
   Counter* ctr;
   LS_HD void operator()(int k) const {
     const int i = ro(list + k);
@@ -523,6 +516,10 @@ struct GatherK {
     }
     lists.count[slot] = m < lists.stride ? m : lists.stride;
     if (m > lists.stride) store_max(max_count, m);
+    if (order.key != nullptr) {
+      order.key[slot] = work_key(slot, sc.ground_on && p.y - a.y < sc.ground_y + sc.P.contact_tolerance, m);
+      order.slot[slot] = slot;
+    }
     if (count_work) {
       add_counter(&ctr[kCPairsTested], tested);
       add_counter(&ctr[kCBodyContacts], contacts);
@@ -814,14 +811,16 @@ struct ContactsK {
 // splitting) over the relaxation.
 struct SolveK {
   SolverData d;
+  const int* order;  // thread -> slot (WorkOrder), or null: thread k is slot k
   const F4* vin;
   const F4* win;
   F4* vout;
   F4* wout;
   Counter* ctr;
-  LS_HD void operator()(int k) const {
+  LS_HD void operator()(int thread) const {
     const BodyArrays& b = d.b;
     const SceneConsts& sc = d.sc;
+    const int k = order != nullptr ? ro(order + thread) : thread;
     const int i = ro(d.list + k);
     const F4 pi4 = ro(b.pos + i), h4 = ro(b.half + i);
     const Vec3<float> p = xyz(pi4), a = xyz(ro(b.aabb + i)), h = xyz(h4);

@@ -36,10 +36,10 @@ struct GpuOptions {
   // Jacobi relaxation of body-body impulses: a body adds relaxation / m times
   // the sum of its m approaching body-body contacts' velocity changes.
   float relaxation = 1.0f;
-  // From this many awake bodies on, the awake list is sorted each frame by
-  // the bodies' work (within segments of 2048 slots: bodies near the ground
-  // first, so that the threads of a warp take the same path through the
-  // contact and solver kernels), at the cost of one radix sort per frame. A
+  // From this many awake bodies on, the solver's iterations run their
+  // bodies in an order of their work (within segments of 2048 slots: bodies
+  // near the ground first, then by neighbour count, so that the threads of a
+  // warp take the same path), at the cost of one radix sort per frame. A
   // scheduling choice only: the results are the same bits either way.
   int work_order_min = 32768;
   bool stage_timing = false;  // per-stage times (CUDA events on the device)
