@@ -10,6 +10,7 @@
 #include <string>
 #include <utility>
 
+#include "colouring.hpp"
 #include "pipeline_base.hpp"
 #include "stages.hpp"
 
@@ -67,7 +68,7 @@ class Pipeline final : public PipelineBase {
     if (n_sdf_ > 0) { sdf_c0_.resize(9 * n * static_cast<std::size_t>(n_sdf_) + 1); sdf_c1_.resize(9 * n * static_cast<std::size_t>(n_sdf_) + 1); }
     ctr_.resize(kCounterCount);
     be_.fill_zero(ctr_.data(), kCounterCount);
-    scal_.resize(3);
+    scal_.resize(5);
     sc_.P = s.P;
     sc_.half_tol = s.P.contact_tolerance * Num<float>::from_double(0.5);
     sc_.gravity = s.fx.gravity;
@@ -157,6 +158,42 @@ class Pipeline final : public PipelineBase {
     g.cells = gp.table;
   }
 
+  // The coloured solver's edges and their colours (colouring.hpp): rounds in
+  // batches of kColourBatch, the last of each counting the edges left and
+  // the colours used, until none is left (one synchronisation per batch);
+  // colour r is round r. Sets
+  // colours_; returns the colour of each list entry.
+  const int* colour_edges(int n_active, const int* active, const NeighbourLists& nl, int par, bool pairs) {
+    colours_ = 0;
+    if (!pairs) {  // empty lists (no body-body contacts): nothing to colour
+      edge_colour_[0].resize(1);
+      return edge_colour_[0].data();
+    }
+    const auto entries = static_cast<std::size_t>(n_active) * static_cast<std::size_t>(nl.stride) + 1;
+    mate_.resize(entries);
+    edge_key_.resize(entries);
+    for (auto& c : edge_colour_) c.resize(entries);
+    be_.for_n(n_active, PairEdgesK{active, body_, nl, slot_of_[par].data(), awake_grid_.gp.data(), mate_.data(),
+                                   edge_key_.data(), edge_colour_[0].data(), edge_colour_[1].data()});
+    constexpr int kColourBatch = 4;
+    int in = 0, round = 0;
+    for (;;) {
+      be_.fill_int(scal_.data() + 3, 0, 2);
+      for (int r = 0; r < kColourBatch; ++r, ++round) {
+        be_.for_n(n_active, ColourRoundK{active, nl, slot_of_[par].data(), mate_.data(), edge_key_.data(),
+                                         edge_colour_[in].data(), edge_colour_[1 - in].data(), round,
+                                         r + 1 == kColourBatch, scal_.data() + 3, scal_.data() + 4});
+        in = 1 - in;
+      }
+      int found[2] = {0, 0};
+      be_.download(found, scal_.data() + 3, 2);
+      be_.sync();
+      colours_ = found[1];
+      if (found[0] == 0) break;
+    }
+    return edge_colour_[in].data();
+  }
+
   // Host copy of a device int (the backend synchronises).
   int read_int(const int* p) {
     int v = 0;
@@ -195,8 +232,12 @@ class Pipeline final : public PipelineBase {
   Buf<int> keep_, keep_scan_;
   Grid awake_grid_, frozen_grid_;
   Buf<Counter> ctr_;
-  Buf<int> scal_;  // [0]: woken count, [1]: error (4 i + code, or INT_MAX), [2]: longest neighbour list
+  Buf<int> mate_, edge_colour_[2];  // the coloured solver's edges (colouring.hpp), per list entry
+  Buf<unsigned long long> edge_key_;
+  Buf<int> scal_;  // [0]: woken count, [1]: error (4 i + code, or INT_MAX), [2]: longest neighbour list,
+                   // [3]: edges left uncoloured, [4]: colours used
   bool frozen_dirty_ = true;
+  int colours_ = 0;  // the coloured solver's colours this frame
 };
 
 template <class B>
@@ -330,11 +371,21 @@ void Pipeline<B>::step() {
                                    work_slot_[1].data(), n_active, work_key_bits(n_active));
       order = work_slot_[r].data();
     }
-    for (int it = 0; it < iterations; ++it) {
-      const int in = it % 2 == 0 ? 1 : 2, out = 3 - in;
-      be_.for_n(n_active, SolveK{d, order, vel_[in].data(), ang_[in].data(), vel_[out].data(), ang_[out].data(),
-                                 ctr_.data()});
-      last = out;
+    if (opt_.pair_solver == GpuOptions::PairSolver::kColoured) {
+      const int* colour = colour_edges(n_active, active, nl, par, contacts && n_awake > 0);
+      for (int it = 0; it < iterations; ++it) {  // in place in buffer 1
+        be_.for_n(n_active, SolveK{d, order, colour, vel_[1].data(), ang_[1].data(), vel_[1].data(),
+                                   ang_[1].data(), ctr_.data()});
+        for (int c = 0; c < colours_; ++c)
+          be_.for_n(n_active, SolvePairsK{d, mate_.data(), colour, c, vel_[1].data(), ang_[1].data(), ctr_.data()});
+      }
+    } else {
+      for (int it = 0; it < iterations; ++it) {
+        const int in = it % 2 == 0 ? 1 : 2, out = 3 - in;
+        be_.for_n(n_active, SolveK{d, order, nullptr, vel_[in].data(), ang_[in].data(), vel_[out].data(),
+                                   ang_[out].data(), ctr_.data()});
+        last = out;
+      }
     }
   }
 
@@ -342,11 +393,15 @@ void Pipeline<B>::step() {
   be_.mark(kStageSettle);
   SettleSweep sweep{support_idx_.data(), support_n_.data(), vel_[last].data(), vel_[last].data()};
   if (fx_.settling && n_active > 0) {
-    const int sweeps = std::max(1, opt_.settle_passes);
-    for (int s = 0; s + 1 < sweeps; ++s) {
-      F4* sout = settle_[s % 2].data();
-      be_.for_n(n_active, SettleK{active, body_, sc_, sweep, sout});
-      sweep.sin = sout;
+    const int batch = std::max(1, opt_.settle_batch);
+    for (int s = 0;;) {  // until every body's settled velocity is final
+      for (int k = 0; k < batch; ++k, ++s) {
+        F4* sout = settle_[s % 2].data();
+        if (k + 1 == batch) be_.fill_int(scal_.data() + 3, 0, 1);
+        be_.for_n(n_active, SettleK{active, body_, sc_, sweep, sout, k + 1 == batch ? scal_.data() + 3 : nullptr});
+        sweep.sin = sout;
+      }
+      if (read_int(scal_.data() + 3) == 0) break;
     }
   }
 

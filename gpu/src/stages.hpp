@@ -39,6 +39,27 @@ LS_HD inline void add_counter(Counter* c, unsigned v) {
 #endif
 }
 
+// *c += v and *c = max(*c, v) for int counters, warp-aggregated on the
+// device like add_counter (integer sums and maxima do not depend on order).
+LS_HD inline void add_to(int* c, int v) {
+#if defined(__CUDA_ARCH__)
+  const unsigned mask = __activemask();
+  const int sum = __reduce_add_sync(mask, v);
+  if (static_cast<int>(threadIdx.x & 31u) == __ffs(static_cast<int>(mask)) - 1 && sum != 0) atomicAdd(c, sum);
+#else
+  *c += v;
+#endif
+}
+LS_HD inline void max_to(int* c, int v) {
+#if defined(__CUDA_ARCH__)
+  const unsigned mask = __activemask();
+  const int most = __reduce_max_sync(mask, v);
+  if (static_cast<int>(threadIdx.x & 31u) == __ffs(static_cast<int>(mask)) - 1) atomicMax(c, most);
+#else
+  if (v > *c) *c = v;
+#endif
+}
+
 // Sets *flag to 1; true for the one caller that found it 0.
 LS_HD inline bool claim_flag(int* flag) {
 #if defined(__CUDA_ARCH__)
@@ -599,6 +620,12 @@ LS_HD inline BodyView<float> view_of(const BodyArrays& b, int j, const F4* vel, 
                       xyz(ro(b.inert + j)));
 }
 
+// A neighbour-list entry's colour in the coloured solver (colouring.hpp):
+// kNoEdge when its body is not active (an immovable contact, solved by
+// SolveK), kUncoloured until a colouring round colours it, else the colour
+// (0, 1, ...).
+inline constexpr int kNoEdge = -2, kUncoloured = -1;
+
 // Everything the solver kernels share.
 struct SolverData {
   const int* list;
@@ -808,10 +835,13 @@ struct ContactsK {
 // same impulse and keep equal copies of its accumulated state; each adds its
 // own velocity change, and the effective masses are scaled by the larger
 // of the two bodies' contact counts in the contact's direction (mass
-// splitting) over the relaxation.
+// splitting) over the relaxation. With `edge_colour` (the coloured solver,
+// colouring.hpp) the body visits only its immovable contacts, in place (vin
+// = vout): the contacts with active bodies are SolvePairsK's.
 struct SolveK {
   SolverData d;
   const int* order;  // thread -> slot (WorkOrder), or null: thread k is slot k
+  const int* edge_colour;  // the coloured solver's colours per entry, or null: Jacobi
   const F4* vin;
   const F4* win;
   F4* vout;
@@ -826,7 +856,8 @@ struct SolveK {
     const Vec3<float> p = xyz(pi4), a = xyz(ro(b.aabb + i)), h = xyz(h4);
     const Mat3<float> R = rotation_matrix(quat(ro(b.rot + i)));
     const Vec3<float> I = xyz(ro(b.inert + i));
-    const Vec3<float> v0 = xyz(ro(vin + i)), w0 = xyz(ro(win + i));
+    const bool coloured = edge_colour != nullptr;
+    const Vec3<float> v0 = xyz(coloured ? vin[i] : ro(vin + i)), w0 = xyz(coloured ? win[i] : ro(win + i));
     BodyView<float> self = dynamic_view(v0, w0, pi4.w, R, I);
     const float tol = sc.P.contact_tolerance;
     const int stride = sc.imm_stride();
@@ -872,6 +903,10 @@ struct SolveK {
     const int beg = d.lists.begin(k), end = d.lists.end(k);
     for (int t = beg; t < end; ++t) {
       const int j = ro(d.lists.nbr + t);
+      // The coloured solver's edges are SolvePairsK's; an awake j that is no
+      // edge (its list lacks i: cannot happen, the pair test is symmetric) is
+      // met as immovable, so that no velocity is read that another thread writes.
+      if (coloured && ro(edge_colour + t) != kNoEdge) continue;
       const F4 pj4 = ro(b.pos + j);
       const Vec3<float> pj = xyz(pj4);
       const bool lower = i < j;
@@ -882,10 +917,10 @@ struct SolveK {
       // warp stay together): body 1 is the lower index; an immovable j is
       // solved on the body's own current velocity (self), an active j
       // (Jacobi) on both bodies' velocities at the start of the iteration.
-      const bool jacobi = is_awake(ro(b.flags + j));
+      const bool jacobi = !coloured && is_awake(ro(b.flags + j));
       BodyView<float> me = self;
       if (jacobi) { me.v = v0; me.w = w0; }
-      const BodyView<float> other = view_of(b, j, vin, win);
+      const BodyView<float> other = coloured ? immovable_view<float>() : view_of(b, j, vin, win);
       const float split =
           jacobi ? jacobi_split(ro(d.dir_count + i), ro(d.dir_count + j), lower ? pc.n : -pc.n, sc.relaxation) : 1.0f;
       BodyView<float> A = pick(lower, me, other), B = pick(lower, other, me);
@@ -929,31 +964,45 @@ struct SettleSweep {
   const F4* sin;    // the previous sweep's (sweep 0: vpost)
   // Eqs 75, 77 on v (the solver's velocity of body i); returns |v| after eq 75
   // (what righting uses), or a negative value for a body with no support
-  // (v unchanged).
-  LS_HD float linear(const BodyArrays& b, int i, const Params<float>& P, Vec3<float>& v) const {
+  // (v unchanged). `final`: the result is World<T>'s (it read no support's
+  // settled velocity, or a final one: a sweep's output carries w = 1 when
+  // final, and the solver's velocities w = 0).
+  LS_HD float linear(const BodyArrays& b, int i, const Params<float>& P, Vec3<float>& v, bool& final) const {
+    final = true;
     const int s = ro(support_idx + i);
     if (s == kNoSupport) return -1.0f;
     Vec3<float> v_s{};
     if (s >= 0 && is_awake(ro(b.flags + s))) {
       const float ys = ro(b.pos + s).y, yi = ro(b.pos + i).y;
       const bool lower = ys < yi || (ys == yi && s < i);
-      v_s = (lower && ro(support_idx + s) != kNoSupport) ? xyz(ro(sin + s)) : xyz(ro(vpost + s));
+      if (lower && ro(support_idx + s) != kNoSupport) {
+        const F4 settled = ro(sin + s);
+        v_s = xyz(settled);
+        final = settled.w != 0.0f;
+      } else {
+        v_s = xyz(ro(vpost + s));
+      }
     }
     return settle_linear_velocity(v, v_s, xyz(ro(support_n + i)), P);  // eqs 75, 77
   }
 };
 
-// One settling sweep but the last: the linear velocity of every supported body.
+// One settling sweep but the last: the linear velocity of every supported
+// body, w = 1 where final. With `unsettled`, counts the bodies whose result
+// is not final yet (an integer atomic, order-free).
 struct SettleK {
   const int* list;
   BodyArrays b;
   SceneConsts sc;
   SettleSweep sweep;
   F4* sout;
+  int* unsettled;
   LS_HD void operator()(int k) const {
     const int i = ro(list + k);
     Vec3<float> v = xyz(ro(sweep.vpost + i));
-    if (sweep.linear(b, i, sc.P, v) >= 0.0f) sout[i] = f4(v, 0.0f);
+    bool final = true;
+    if (sweep.linear(b, i, sc.P, v, final) >= 0.0f) sout[i] = f4(v, final ? 1.0f : 0.0f);
+    if (unsettled != nullptr) add_to(unsettled, final ? 0 : 1);
   }
 };
 
@@ -989,7 +1038,8 @@ struct CorrectIntegrateK {
     const Quat<float> q0 = quat(ro(b.rot + i));
     Vec3<float> vf = xyz(ro(vpost + i)), wf = xyz(ro(wpost + i));
     if (settle) {
-      const float speed = sweep.linear(b, i, sc.P, vf);  // eqs 75, 77
+      bool final = true;
+      const float speed = sweep.linear(b, i, sc.P, vf, final);  // eqs 75, 77
       if (speed >= 0.0f) {
         wf = settle_angular_velocity(wf, rotation_matrix(q0), xyz(ro(sweep.support_n + i)), speed, sc.P);  // eqs 64-74
         add_counter(&ctr[kCSettlingBodies], 1u);

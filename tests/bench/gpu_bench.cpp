@@ -5,7 +5,8 @@
 //
 //   gpu_bench [--sizes 10000,100000,1000000,10000000] [--cpu-sizes 10000]
 //             [--sleep-size 1000000] [--sleep-frames 1500] [--backend auto|host]
-//             [--json out.json] [--profile N]
+//             [--json out.json] [--profile N] [--solver coloured|jacobi]
+// --solver: GpuOptions::pair_solver of the GPU runs (default coloured).
 // --profile N: only runs the awake pile of N cubes for 41 frames and
 // captures frame 41 for `ncu --profile-from-start off` (docs/GPU.md).
 #include <algorithm>
@@ -30,6 +31,9 @@ constexpr int kColumn = 4;        // cubes per column of the pile
 constexpr double kJitter = 0.01;  // turn of each cube (about radians per axis)
 constexpr int kWarmFrames = 40;   // frames before timing: the columns have landed and are toppling
 constexpr int kTimedFrames = 20;  // frames timed by wall clock, then as many with stage timing
+
+// The GPU runs' options (--backend, --solver).
+lockstep::gpu::GpuOptions g_options;
 
 // The pile; `awake_only` turns sleep off so that every cube stays awake
 // (the awake measurements), `asleep` builds it resting and asleep.
@@ -76,9 +80,8 @@ double mean(const std::vector<double>& v) {
   return v.empty() ? 0.0 : s / static_cast<double>(v.size());
 }
 
-Timing time_gpu(const Scene& s, lockstep::gpu::Backend backend, int warm) {
-  lockstep::gpu::GpuOptions o;
-  o.backend = backend;
+Timing time_gpu(const Scene& s, int warm) {
+  lockstep::gpu::GpuOptions o = g_options;
   o.stage_timing = true;
   GpuWorld g(s, o);
   for (int f = 0; f < warm; ++f) g.step();
@@ -145,7 +148,7 @@ int main(int argc, char** argv) {
   std::vector<long> sizes{10000, 100000, 1000000, 10000000}, cpu_sizes{10000};
   long sleep_size = 1000000;
   int sleep_frames = 1500;
-  std::string json_path, backend_name = "auto";
+  std::string json_path, backend_name = "auto", solver_name = "coloured";
   long profile = 0;
   for (int a = 1; a + 1 < argc; a += 2) {
     const std::string k = argv[a], v = argv[a + 1];
@@ -156,13 +159,18 @@ int main(int argc, char** argv) {
     else if (k == "--json") json_path = v;
     else if (k == "--backend") backend_name = v;
     else if (k == "--profile") profile = std::atol(v.c_str());
+    else if (k == "--solver") solver_name = v;
     else { std::fprintf(stderr, "gpu_bench: unknown option %s\n", k.c_str()); return 2; }
   }
-  const auto backend = backend_name == "host" ? lockstep::gpu::Backend::kHost : lockstep::gpu::Backend::kAuto;
+  if (solver_name != "coloured" && solver_name != "jacobi") {
+    std::fprintf(stderr, "gpu_bench: --solver %s: expected coloured or jacobi\n", solver_name.c_str());
+    return 2;
+  }
+  g_options.backend = backend_name == "host" ? lockstep::gpu::Backend::kHost : lockstep::gpu::Backend::kAuto;
+  g_options.pair_solver = solver_name == "jacobi" ? lockstep::gpu::GpuOptions::PairSolver::kJacobi
+                                                  : lockstep::gpu::GpuOptions::PairSolver::kColoured;
   if (profile > 0) {
-    lockstep::gpu::GpuOptions o;
-    o.backend = backend;
-    GpuWorld g(gpu_test_pile(profile, false, true), o);
+    GpuWorld g(gpu_test_pile(profile, false, true), g_options);
     for (int f = 0; f < kWarmFrames; ++f) g.step();
     lockstep::gpu::profiler_capture(true);
     g.step();
@@ -172,8 +180,9 @@ int main(int argc, char** argv) {
   }
   const lockstep::gpu::DeviceInfo dev = lockstep::gpu::device_info();
   const double copy_gbs = lockstep::gpu::measure_copy_bandwidth(std::size_t{1} << 30, 20);
-  std::printf("device: %s (%d SMs, %.1f GiB); copy bandwidth %.1f GB/s (read + write)\n",
-              dev.name.empty() ? "none (host build)" : dev.name.c_str(), dev.multiprocessors, dev.memory_gib, copy_gbs);
+  std::printf("device: %s (%d SMs, %.1f GiB); copy bandwidth %.1f GB/s (read + write); pair solver %s\n",
+              dev.name.empty() ? "none (host build)" : dev.name.c_str(), dev.multiprocessors, dev.memory_gib, copy_gbs,
+              solver_name.c_str());
   std::printf("scene: settling pile, columns of %d unit cubes 0.2 m apart, turned by up to %.2f; awake: sleep off,"
               " timed frames %d..%d; asleep: built resting and asleep\n",
               kColumn, kJitter, kWarmFrames + 1, kWarmFrames + kTimedFrames);
@@ -182,10 +191,10 @@ int main(int argc, char** argv) {
   std::printf("\n");
   std::vector<std::string> rows;
   for (long n : sizes) {
-    const Timing awake = time_gpu(gpu_test_pile(n, false, true), backend, kWarmFrames);
+    const Timing awake = time_gpu(gpu_test_pile(n, false, true), kWarmFrames);
     print_row("gpu", "awake", n, awake);
     rows.push_back(json_row("gpu", "awake", n, awake));
-    const Timing asleep = time_gpu(gpu_test_pile(n, true), backend, 2);
+    const Timing asleep = time_gpu(gpu_test_pile(n, true), 2);
     print_row("gpu", "asleep", n, asleep);
     rows.push_back(json_row("gpu", "asleep", n, asleep));
   }
@@ -203,9 +212,7 @@ int main(int argc, char** argv) {
   // and time per step along the way.
   std::vector<std::string> sleep_rows;
   if (sleep_size > 0) {
-    lockstep::gpu::GpuOptions o;
-    o.backend = backend;
-    GpuWorld g(gpu_test_pile(sleep_size, false), o);
+    GpuWorld g(gpu_test_pile(sleep_size, false), g_options);
     std::printf("settling run, %ld cubes: frame, awake, ms/step (mean of the last 50 frames)\n", sleep_size);
     double window = 0.0;
     for (int f = 1; f <= sleep_frames; ++f) {
@@ -226,7 +233,7 @@ int main(int argc, char** argv) {
   if (!json_path.empty()) {
     std::ofstream out(json_path);
     out << "{\"device\":\"" << dev.name << "\",\"multiprocessors\":" << dev.multiprocessors
-        << ",\"copy_bandwidth_gbs\":" << copy_gbs << ",\"column\":" << kColumn << ",\"jitter\":" << kJitter << ",\"warm_frames\":" << kWarmFrames
+        << ",\"copy_bandwidth_gbs\":" << copy_gbs << ",\"pair_solver\":\"" << solver_name << "\"" << ",\"column\":" << kColumn << ",\"jitter\":" << kJitter << ",\"warm_frames\":" << kWarmFrames
         << ",\"timed_frames\":" << kTimedFrames << ",\"rows\":[";
     for (std::size_t k = 0; k < rows.size(); ++k) out << (k ? ",\n" : "\n") << rows[k];
     out << "],\"settling_run\":[";

@@ -178,10 +178,13 @@ double contact_margin(const Monitor& m, double tol) {
 // eq 81 with eq 97: the falling box approaches at over 0.99 m/s (> wake_speed)
 // when it reaches the sleeper, so the sleeper wakes in the frame whose
 // narrow phase first sees their pair as a contact: it is asleep after every
-// frame that starts with the boxes clearly apart (margin < -0.1 mm), and awake
-// after the first frame that starts with them clearly in contact (margin >
-// 0.1 mm; the band between covers the engines' rounding of the margin). In
-// that frame it moves: its position or velocity changes.
+// frame up to the first that starts with the boxes not clearly apart (margin
+// >= -0.1 mm; the band of +-0.1 mm covers the engines' rounding of the
+// margin), and awake after the first frame that starts with them clearly in
+// contact (margin > 0.1 mm). In that frame it moves: its position or velocity
+// changes. (A frame that starts inside the band may wake it through a
+// speculative contact that turns the box back before it is clearly in
+// contact: from then on the sleeper may be awake.)
 RC_GTEST_PROP(RandomScenes, TouchedSleeperWakesAndMoves, ()) {
   const Scene scene = sleeper_and_dropper();
   assert_valid(scene);
@@ -189,10 +192,11 @@ RC_GTEST_PROP(RandomScenes, TouchedSleeperWakesAndMoves, ()) {
   for (const std::string& engine : engines_for(false)) {
     RC_LOG() << "engine " << engine << "\n";
     MonitoredRun r(scene, engine);
+    bool near = false;  // a frame started within the band
     while (r.stats().frames < scene.frames && contact_margin(*r.monitor, tol) <= band && r.error.empty()) {
-      const bool apart = contact_margin(*r.monitor, tol) < -band;
+      near = near || contact_margin(*r.monitor, tol) >= -band;
       r.run_to(r.stats().frames + 1);
-      if (apart) RC_ASSERT(r.monitor->state()[0].asleep);  // nothing wakes it before the contact
+      if (!near) RC_ASSERT(r.monitor->state()[0].asleep);  // nothing wakes it before the contact
     }
     RC_ASSERT(r.error == "");
     RC_ASSERT(contact_margin(*r.monitor, tol) > band);  // the dropper reached the sleeper

@@ -29,11 +29,23 @@ enum class Backend {
 
 struct GpuOptions {
   Backend backend = Backend::kAuto;
-  // Settling sweeps per frame: eq 75 reads the support's settled velocity when
-  // the support is lower (World<T> settles bottom-up in one ordered pass); k
-  // sweeps give World<T>'s result exactly for support chains up to k bodies.
-  int settle_passes = 4;
-  // Jacobi relaxation of body-body impulses: a body adds relaxation / m times
+  // Settling sweeps: eq 75 reads the support's settled velocity when the
+  // support is lower (World<T> settles bottom-up in one ordered pass); sweep k
+  // settles the bodies k + 1 high in their chain of supports exactly. Sweeps
+  // run in batches of this many, each followed by a check (one host
+  // synchronisation), until every body's settled velocity is final, plus the
+  // last sweep (fused with the correction): World<T>'s result for any stack.
+  int settle_batch = 4;
+  // How contacts between two awake bodies are resolved (docs/GPU.md "Contact
+  // resolution"). kColoured: Gauss-Seidel over a colouring of the contact
+  // graph (contacts of one colour share no body and are solved in parallel,
+  // the colours one after the other, each contact updating both bodies as
+  // World<T> does). kJacobi: each body against its neighbours' velocities at
+  // the start of the iteration, with mass splitting: fewer launches, softer
+  // stacks, taller stacks topple.
+  enum class PairSolver { kColoured, kJacobi };
+  PairSolver pair_solver = PairSolver::kColoured;
+  // Jacobi relaxation of body-body impulses (kJacobi): a body adds relaxation / m times
   // the sum of its m approaching body-body contacts' velocity changes.
   float relaxation = 1.0f;
   // From this many awake bodies on, the solver's iterations run their

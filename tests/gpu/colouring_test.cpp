@@ -1,0 +1,177 @@
+// The coloured solver's schedule (gpu/src/colouring.hpp): PairEdgesK and
+// ColourRoundK on random contact graphs, run as the host build runs them.
+#include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
+
+#include <algorithm>
+#include <vector>
+
+#include "colouring.hpp"
+
+namespace lockstep::gpu {
+namespace {
+
+// A contact graph as the pipeline holds it: the awake bodies have slots (in
+// ascending index order) with sorted neighbour lists; sleeping bodies appear
+// only in their awake neighbours' lists.
+struct Graph {
+  int n = 0;
+  std::vector<F4> pos;
+  std::vector<std::uint8_t> flags;
+  std::vector<int> list, slot_of, nbr, count;
+  int stride = 1;
+};
+
+Graph random_graph() {
+  Graph g;
+  g.n = *rc::gen::inRange(2, 40);
+  const int percent = *rc::gen::inRange(5, 60);
+  for (int i = 0; i < g.n; ++i) {
+    // Heights on a coarse lattice, so that bands tie and the hash decides.
+    g.pos.push_back(F4{0.0f, static_cast<float>(*rc::gen::inRange(0, 12)) * 0.5f, 0.0f, 1.0f});
+    g.flags.push_back(*rc::gen::inRange(0, 5) == 0 ? kFlagAsleep : 0);
+  }
+  std::vector<std::vector<int>> adj(static_cast<std::size_t>(g.n));
+  for (int i = 0; i < g.n; ++i)
+    for (int j = i + 1; j < g.n; ++j)
+      if (*rc::gen::inRange(0, 100) < percent) {
+        adj[static_cast<std::size_t>(i)].push_back(j);
+        adj[static_cast<std::size_t>(j)].push_back(i);
+      }
+  g.slot_of.assign(static_cast<std::size_t>(g.n), -1);
+  for (int i = 0; i < g.n; ++i)
+    if (is_awake(g.flags[static_cast<std::size_t>(i)])) {
+      g.slot_of[static_cast<std::size_t>(i)] = static_cast<int>(g.list.size());
+      g.list.push_back(i);
+      g.stride = std::max(g.stride, static_cast<int>(adj[static_cast<std::size_t>(i)].size()));
+    }
+  g.nbr.assign(g.list.size() * static_cast<std::size_t>(g.stride), -1);
+  for (std::size_t k = 0; k < g.list.size(); ++k) {
+    const auto& a = adj[static_cast<std::size_t>(g.list[k])];  // ascending
+    std::copy(a.begin(), a.end(), g.nbr.begin() + static_cast<std::ptrdiff_t>(k) * g.stride);
+    g.count.push_back(static_cast<int>(a.size()));
+  }
+  return g;
+}
+
+struct Colouring {
+  std::vector<int> mate, colour;
+  int colours = 0;
+  int rounds = 0;
+};
+
+// The pipeline's colour_edges with each kernel's threads in the given order.
+Colouring colour(Graph& g, bool reversed) {
+  const int slots = static_cast<int>(g.list.size());
+  const NeighbourLists lists{g.nbr.data(), g.count.data(), g.stride};
+  BodyArrays b;
+  b.pos = g.pos.data();
+  b.flags = g.flags.data();
+  GridParams grid;
+  grid.inv_cell = 0.5f;  // bands of 1 m
+  const std::size_t entries = g.nbr.size() + 1;
+  Colouring c;
+  c.mate.assign(entries, -1);
+  std::vector<unsigned long long> key(entries);
+  std::vector<int> words[2] = {std::vector<int>(entries), std::vector<int>(entries)};
+  auto launch = [&](const auto& f) {
+    for (int t = 0; t < slots; ++t) f(reversed ? slots - 1 - t : t);
+  };
+  launch(PairEdgesK{g.list.data(), b, lists, g.slot_of.data(), &grid, c.mate.data(), key.data(), words[0].data(),
+                    words[1].data()});
+  int in = 0;
+  for (;;) {
+    int left = 0, colours = 0;
+    launch(ColourRoundK{g.list.data(), lists, g.slot_of.data(), c.mate.data(), key.data(), words[in].data(),
+                        words[1 - in].data(), c.rounds, true, &left, &colours});
+    in = 1 - in;
+    ++c.rounds;
+    c.colours = colours;
+    if (left == 0 || c.rounds > 10000) break;
+  }
+  c.colour = words[in];
+  return c;
+}
+
+// Every contact between two awake bodies is an edge with one colour on both
+// copies; no two edges of a colour share a body; of two edges that share a
+// body, the one first in the order (lower band, then hash) has the lower
+// colour; the colours are 0 .. colours-1; the result does not depend on the
+// order of the threads.
+RC_GTEST_PROP(Colouring, IsAMatchingPerColourInTheEdgesOrder, ()) {
+  Graph g = random_graph();
+  const Colouring c = colour(g, false);
+  RC_ASSERT(colour(g, true).colour == c.colour);
+  struct Edge { int lo, hi, colour; unsigned long long key; };
+  std::vector<Edge> edges;
+  for (std::size_t k = 0; k < g.list.size(); ++k) {
+    const int i = g.list[k];
+    for (int t = static_cast<int>(k) * g.stride; t < static_cast<int>(k) * g.stride + g.count[k]; ++t) {
+      const auto ut = static_cast<std::size_t>(t);
+      const int j = g.nbr[ut];
+      if (!is_awake(g.flags[static_cast<std::size_t>(j)])) {
+        RC_ASSERT(c.colour[ut] == kNoEdge);
+        continue;
+      }
+      const int m = c.mate[ut];
+      RC_ASSERT(m >= 0);
+      RC_ASSERT(g.nbr[static_cast<std::size_t>(m)] == i);
+      RC_ASSERT(c.colour[static_cast<std::size_t>(m)] == c.colour[ut]);
+      RC_ASSERT(c.colour[ut] >= 0);
+      RC_ASSERT(c.colour[ut] < c.colours);
+      if (i < j)
+        edges.push_back({i, j, c.colour[ut],
+                         edge_key(i, j, g.pos[static_cast<std::size_t>(i)].y, g.pos[static_cast<std::size_t>(j)].y, 1.0f)});
+    }
+  }
+  std::vector<bool> used(static_cast<std::size_t>(c.colours), false);
+  for (const Edge& e : edges) used[static_cast<std::size_t>(e.colour)] = true;
+  RC_ASSERT(std::all_of(used.begin(), used.end(), [](bool u) { return u; }));
+  for (std::size_t a = 0; a < edges.size(); ++a)
+    for (std::size_t b = a + 1; b < edges.size(); ++b) {
+      const Edge &e = edges[a], &f = edges[b];
+      if (e.lo != f.lo && e.lo != f.hi && e.hi != f.lo && e.hi != f.hi) continue;  // no shared body
+      RC_ASSERT(e.colour != f.colour);
+      const bool e_first = EdgeKey{e.key, e.lo, e.hi}.before(EdgeKey{f.key, f.lo, f.hi});
+      RC_ASSERT(e_first == (e.colour < f.colour));
+    }
+}
+
+// A chain of contacts one above the other (a stack) gets one colour per
+// contact, bottom-up, whatever the body indices: the solver carries the
+// support up the stack in one iteration, as World<T> does for a stack built
+// bottom-up.
+TEST(Colouring, AStackIsColouredBottomUp) {
+  Graph g;
+  g.n = 6;
+  const int order[6] = {3, 0, 5, 1, 4, 2};  // body order[h] is h-th from the ground
+  g.pos.resize(6);
+  for (int h = 0; h < 6; ++h) g.pos[static_cast<std::size_t>(order[h])] = F4{0.0f, 0.5f + static_cast<float>(h), 0.0f, 1.0f};
+  g.flags.assign(6, 0);
+  g.stride = 2;
+  g.slot_of.resize(6);
+  for (int i = 0; i < 6; ++i) {
+    g.list.push_back(i);
+    g.slot_of[static_cast<std::size_t>(i)] = i;
+    int h = 0;
+    while (order[h] != i) ++h;
+    std::vector<int> a;
+    if (h > 0) a.push_back(order[h - 1]);
+    if (h < 5) a.push_back(order[h + 1]);
+    std::sort(a.begin(), a.end());
+    a.resize(2, -1);
+    g.nbr.insert(g.nbr.end(), a.begin(), a.end());
+    g.count.push_back(h == 0 || h == 5 ? 1 : 2);
+  }
+  const Colouring c = colour(g, false);
+  EXPECT_EQ(c.colours, 5);
+  for (int h = 0; h < 5; ++h) {  // the contact between heights h and h + 1
+    const int i = order[h], j = order[h + 1];
+    const auto k = static_cast<std::size_t>(i);
+    const int t = g.nbr[k * 2] == j ? static_cast<int>(k) * 2 : static_cast<int>(k) * 2 + 1;
+    EXPECT_EQ(c.colour[static_cast<std::size_t>(t)], h) << "contact " << h;
+  }
+}
+
+}  // namespace
+}  // namespace lockstep::gpu
