@@ -37,10 +37,29 @@ LS_HD inline unsigned long long edge_key(int lo, int hi, float y_lo, float y_hi,
   return (static_cast<unsigned long long>(biased) << 32) | x;
 }
 
+// The colour words are read while other threads of the round write them:
+// volatile accesses on the device (strong, so no data race), plain ones in
+// the host build, which runs the threads one after the other.
+LS_HD inline int load_word(const int* p) {
+#if defined(__CUDA_ARCH__)
+  return *static_cast<const volatile int*>(p);
+#else
+  return *p;
+#endif
+}
+LS_HD inline void store_word(int* p, int v) {
+#if defined(__CUDA_ARCH__)
+  *static_cast<volatile int*>(p) = v;
+#else
+  *p = v;
+#endif
+}
+
 // The entries of body i's list that are edges: j awake (every awake body is
 // active) and i in j's list. mate[t] is the entry of the same contact in j's
-// list (its copy of the contact state), key[t] the edge's place in the order;
-// both colour buffers start kUncoloured there and kNoEdge elsewhere. Runs
+// list (its copy of the contact state), key[t] the edge's place in the order,
+// word[t] kUncoloured (kNoEdge for the other entries); the owner's entry
+// (the lower body's) of each edge goes to the pending list of round 0. Runs
 // after ContactsK, which sorted every list and wrote slot_of.
 struct PairEdgesK {
   const int* list;
@@ -50,126 +69,139 @@ struct PairEdgesK {
   const GridParams* grid;  // the awake grid: its cells are 2 H wide
   int* mate;
   unsigned long long* key;
-  int* colour0;
-  int* colour1;
+  int* word;
+  int* pending;
+  int* pending_count;
   LS_HD void operator()(int k) const {
-    const int i = list[k];
-    const float inv_band = grid->inv_cell * Num<float>::from_int(2);
+    const int i = ro(list + k);
+    const float inv_band = ro(&grid->inv_cell) * Num<float>::from_int(2);
     for (int t = lists.begin(k); t < lists.end(k); ++t) {
-      const int j = lists.nbr[t];
+      const int j = ro(lists.nbr + t);
       int m = -1;
-      if (is_awake(b.flags[j])) {
-        const int s = slot_of[j];
+      if (is_awake(ro(b.flags + j))) {
+        const int s = ro(slot_of + j);
         int lo = lists.begin(s), hi = lists.end(s);
         while (lo < hi) {  // binary search in j's ascending list
           const int mid = lo + (hi - lo) / 2;
-          if (lists.nbr[mid] < i) lo = mid + 1;
+          if (ro(lists.nbr + mid) < i) lo = mid + 1;
           else hi = mid;
         }
-        if (lo < lists.end(s) && lists.nbr[lo] == i) m = lo;  // else not mutual: no edge (kept safe)
+        if (lo < lists.end(s) && ro(lists.nbr + lo) == i) m = lo;  // else not mutual: no edge (kept safe)
       }
       mate[t] = m;
-      key[t] = i < j ? edge_key(i, j, b.pos[i].y, b.pos[j].y, inv_band) : edge_key(j, i, b.pos[j].y, b.pos[i].y, inv_band);
-      colour0[t] = colour1[t] = m < 0 ? kNoEdge : kUncoloured;
+      const float yi = ro(b.pos + i).y, yj = ro(b.pos + j).y;
+      key[t] = i < j ? edge_key(i, j, yi, yj, inv_band) : edge_key(j, i, yj, yi, inv_band);
+      word[t] = m < 0 ? kNoEdge : kUncoloured;
+      if (m >= 0 && i < j) pending[claim_one(pending_count)] = t;
     }
   }
 };
 
-// Round r of a parallel colouring in the edges' order (Jones-Plassmann): an
-// uncoloured edge that goes before every uncoloured edge it shares a body
-// with takes colour r. Edges of one colour share no body, and the colours
-// follow the order: a stack gets one colour per contact, bottom-up. The
-// round reads `in` and writes `out` (every edge's word, by the thread of its
-// lower body, its owner, into both copies), so no thread reads what another
-// writes: the result does not depend on the order of the threads. With
-// `count`, *left counts the edges still uncoloured and *colours is the
-// number of colours used (integer atomics, order-free).
+// Round r of a parallel colouring in the edges' order (Jones-Plassmann): a
+// pending (uncoloured) edge that goes before every edge it shares a body with
+// that was uncoloured at the start of the round takes colour r, written on
+// both copies and appended to `edges` (so colour r's edges follow colour
+// r-1's); the others go to the next round's pending list. Two edges that
+// share a body are never both first, so edges of one colour share no body;
+// the colours follow the order (a stack gets one colour per contact,
+// bottom-up); and the colours do not depend on the order of the threads:
+// a word read as kUncoloured or r means "uncoloured at the start of the
+// round" either way. The positions in the lists (integer atomics) depend on
+// the threads' order, which decides only which thread solves an edge. The
+// threads step through the pending list `threads` apart (its length is on
+// the device).
 struct ColourRoundK {
   const int* list;
   NeighbourLists lists;
   const int* slot_of;
   const int* mate;
   const unsigned long long* key;
-  const int* in;
-  int* out;
+  int* word;
   int round;
-  bool count;
-  int* left;
-  int* colours;
+  const int* pending;
+  const int* pending_count;
+  int* next;
+  int* next_count;
+  int* edges;
+  int* total;
+  int threads;
   LS_HD void operator()(int k) const {
-    const int i = list[k];
-    int waiting = 0, most = 0;
-    for (int t = lists.begin(k); t < lists.end(k); ++t) {
-      const int j = ro(lists.nbr + t);
-      int word = ro(in + t);
-      if (word == kNoEdge || j < i) continue;  // not an edge, or owned by j
-      const int m = ro(mate + t);
-      if (word == kUncoloured) {
-        const EdgeKey self{ro(key + t), i, j};
-        bool first = true;
-        auto visit = [&](int slot, int body, int skip) {
-          for (int u = lists.begin(slot); u < lists.end(slot) && first; ++u) {
-            if (u == skip || ro(in + u) != kUncoloured) continue;
-            const int o = ro(lists.nbr + u);
-            const EdgeKey other{ro(key + u), body < o ? body : o, body < o ? o : body};
-            if (other.before(self)) first = false;
-          }
-        };
-        visit(k, i, t);
-        visit(ro(slot_of + j), j, m);
-        if (first) word = round;
-        else ++waiting;
+    const int n = *pending_count;
+    for (int e = k; e < n; e += threads) {
+      const int t = pending[e];
+      const int slot = t / lists.stride;
+      const int i = ro(list + slot), j = ro(lists.nbr + t), m = ro(mate + t);
+      const EdgeKey self{ro(key + t), i, j};
+      bool first = true;
+      auto visit = [&](int s, int body, int skip) {
+        for (int u = lists.begin(s); u < lists.end(s) && first; ++u) {
+          if (u == skip) continue;
+          const int w = load_word(word + u);
+          if (w != kUncoloured && w != round) continue;  // no edge, or coloured before this round
+          const int o = ro(lists.nbr + u);
+          if (EdgeKey{ro(key + u), body < o ? body : o, body < o ? o : body}.before(self)) first = false;
+        }
+      };
+      visit(slot, i, t);
+      visit(ro(slot_of + j), j, m);
+      if (first) {
+        store_word(word + t, round);
+        store_word(word + m, round);
+        edges[claim_one(total)] = t;
+      } else {
+        next[claim_one(next_count)] = t;
       }
-      if (word + 1 > most) most = word + 1;
-      out[t] = word;
-      out[m] = word;
-    }
-    if (count) {
-      add_to(left, waiting);
-      max_to(colours, most);
     }
   }
 };
 
-// One colour of one iteration: every edge of colour c, by its owner's thread
-// (body 1 = the lower index, as World<T>), solved on both bodies' current
+// After round r: where colour r's edges end, and the pending count the
+// round after next will write into starts at 0.
+struct RoundEndK {
+  const int* total;
+  int* round_end;
+  int* count_to_clear;
+  LS_HD void operator()(int) const {
+    *round_end = *total;
+    *count_to_clear = 0;
+  }
+};
+
+// One colour of one iteration, a thread per edge: the contact (body 1 = the
+// lower index, its owner, as World<T>) solved on both bodies' current
 // velocities, which it updates in place (no other edge of the colour touches
 // either body); both copies of the contact state are rewritten.
-struct SolvePairsK {
+struct SolveEdgeK {
   SolverData d;
+  const int* edges;  // this colour's
   const int* mate;
-  const int* colour;
-  int c;
   F4* vel;
   F4* ang;
   Counter* ctr;
-  LS_HD void operator()(int k) const {
+  LS_HD void operator()(int e) const {
     const BodyArrays& b = d.b;
     const SceneConsts& sc = d.sc;
-    const int i = ro(d.list + k);
+    const int t = ro(edges + e);
+    const int i = ro(d.list + t / d.lists.stride), j = ro(d.lists.nbr + t);
+    const F4 pi4 = ro(b.pos + i), pj4 = ro(b.pos + j);
+    const Vec3<float> p = xyz(pi4), pj = xyz(pj4);
+    const PairContact<float> pc = pair_contact(p, xyz(ro(b.aabb + i)), pj, xyz(ro(b.aabb + j)), sc.half_tol,
+                                               sc.P.contact_tolerance);
+    BodyView<float> A = dynamic_view(xyz(vel[i]), xyz(ang[i]), pi4.w, rotation_matrix(quat(ro(b.rot + i))),
+                                     xyz(ro(b.inert + i)));
+    BodyView<float> B = dynamic_view(xyz(vel[j]), xyz(ang[j]), pj4.w, rotation_matrix(quat(ro(b.rot + j))),
+                                     xyz(ro(b.inert + j)));
+    ContactState<float> cs = load_state(d.pair[t].a, d.pair[t].b);
     SolveCounts counts;
-    for (int t = d.lists.begin(k); t < d.lists.end(k); ++t) {
-      const int j = ro(d.lists.nbr + t);
-      if (j < i || ro(colour + t) != c) continue;
-      const F4 pi4 = ro(b.pos + i), pj4 = ro(b.pos + j);
-      const Vec3<float> p = xyz(pi4), pj = xyz(pj4);
-      const PairContact<float> pc = pair_contact(p, xyz(ro(b.aabb + i)), pj, xyz(ro(b.aabb + j)), sc.half_tol,
-                                                 sc.P.contact_tolerance);
-      BodyView<float> A = dynamic_view(xyz(vel[i]), xyz(ang[i]), pi4.w, rotation_matrix(quat(ro(b.rot + i))),
-                                       xyz(ro(b.inert + i)));
-      BodyView<float> B = dynamic_view(xyz(vel[j]), xyz(ang[j]), pj4.w, rotation_matrix(quat(ro(b.rot + j))),
-                                       xyz(ro(b.inert + j)));
-      ContactState<float> cs = load_state(d.pair[t].a, d.pair[t].b);
-      solve_contact(A, pc.point - p, B, pc.point - pj, pc.n, pc.penetration, cs, sc.friction, sc.gravity, 1.0f,
-                    sc.P, counts);
-      vel[i] = f4(A.v, 0.0f);
-      ang[i] = f4(A.w, 0.0f);
-      vel[j] = f4(B.v, 0.0f);
-      ang[j] = f4(B.w, 0.0f);
-      const F4 state{cs.j_n, cs.j_t.x, cs.j_t.y, cs.j_t.z};
-      d.pair[t].a = state;
-      d.pair[ro(mate + t)].a = state;
-    }
+    solve_contact(A, pc.point - p, B, pc.point - pj, pc.n, pc.penetration, cs, sc.friction, sc.gravity, 1.0f, sc.P,
+                  counts);
+    vel[i] = f4(A.v, 0.0f);
+    ang[i] = f4(A.w, 0.0f);
+    vel[j] = f4(B.v, 0.0f);
+    ang[j] = f4(B.w, 0.0f);
+    const F4 state{cs.j_n, cs.j_t.x, cs.j_t.y, cs.j_t.z};
+    d.pair[t].a = state;
+    d.pair[ro(mate + t)].a = state;
     add_counter(&ctr[kCSolverContacts], counts.solver_contacts);
     add_counter(&ctr[kCNormalImpulses], counts.normal_impulses);
     add_counter(&ctr[kCFrictionSteps], counts.friction_steps);

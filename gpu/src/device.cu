@@ -52,7 +52,7 @@ __global__ void __launch_bounds__(kBlock, MinBlocks) for_n_kernel_bounded(int n,
 
 template <class F>
 constexpr int kMinBlocks = std::is_same_v<F, GatherK>                                    ? LOCKSTEP_GPU_GATHER_BLOCKS
-                           : std::is_same_v<F, ContactsK> || std::is_same_v<F, SolveK> || std::is_same_v<F, SolvePairsK>
+                           : std::is_same_v<F, ContactsK> || std::is_same_v<F, SolveK> || std::is_same_v<F, SolveEdgeK>
                                ? LOCKSTEP_GPU_MIN_BLOCKS
                                                                                       : 0;
 

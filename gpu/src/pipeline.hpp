@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "colouring.hpp"
 #include "pipeline_base.hpp"
@@ -159,39 +160,51 @@ class Pipeline final : public PipelineBase {
   }
 
   // The coloured solver's edges and their colours (colouring.hpp): rounds in
-  // batches of kColourBatch, the last of each counting the edges left and
-  // the colours used, until none is left (one synchronisation per batch);
-  // colour r is round r. Sets
-  // colours_; returns the colour of each list entry.
+  // batches (the first with as many rounds as last frame had colours, then
+  // 4), each round over the edges still pending, until none is; colour r is
+  // round r, and its edges are edges_[colour_offset_[r], colour_offset_[r +
+  // 1]). One synchronisation per batch. Sets colours_, colour_offset_ and
+  // edges_; returns the colour of each list entry.
   const int* colour_edges(int n_active, const int* active, const NeighbourLists& nl, int par, bool pairs) {
+    const int previous = colours_;
     colours_ = 0;
+    colour_offset_.assign(1, 0);
     if (!pairs) {  // empty lists (no body-body contacts): nothing to colour
-      edge_colour_[0].resize(1);
-      return edge_colour_[0].data();
+      edge_word_.resize(1);
+      return edge_word_.data();
     }
     const auto entries = static_cast<std::size_t>(n_active) * static_cast<std::size_t>(nl.stride) + 1;
     mate_.resize(entries);
     edge_key_.resize(entries);
-    for (auto& c : edge_colour_) c.resize(entries);
+    edge_word_.resize(entries);
+    edges_.resize(entries);
+    for (auto& p : pending_) p.resize(entries);
+    colour_scal_.resize(3);  // [0]: edges coloured, [1], [2]: pending counts (ping-pong)
+    be_.fill_int(colour_scal_.data(), 0, 3);
+    int* total = colour_scal_.data();
+    int* count[2] = {colour_scal_.data() + 1, colour_scal_.data() + 2};
     be_.for_n(n_active, PairEdgesK{active, body_, nl, slot_of_[par].data(), awake_grid_.gp.data(), mate_.data(),
-                                   edge_key_.data(), edge_colour_[0].data(), edge_colour_[1].data()});
-    constexpr int kColourBatch = 4;
-    int in = 0, round = 0;
-    for (;;) {
-      be_.fill_int(scal_.data() + 3, 0, 2);
-      for (int r = 0; r < kColourBatch; ++r, ++round) {
+                                   edge_key_.data(), edge_word_.data(), pending_[0].data(), count[0]});
+    int round = 0;
+    for (int batch = std::max(1, previous);; batch = 4) {
+      round_end_.resize(static_cast<std::size_t>(batch) + 1);
+      for (int r = 0; r < batch; ++r, ++round) {
+        const int in = round % 2, out = 1 - in;
         be_.for_n(n_active, ColourRoundK{active, nl, slot_of_[par].data(), mate_.data(), edge_key_.data(),
-                                         edge_colour_[in].data(), edge_colour_[1 - in].data(), round,
-                                         r + 1 == kColourBatch, scal_.data() + 3, scal_.data() + 4});
-        in = 1 - in;
+                                         edge_word_.data(), round, pending_[in].data(), count[in],
+                                         pending_[out].data(), count[out], edges_.data(), total, n_active});
+        be_.for_n(1, RoundEndK{total, round_end_.data() + r, count[in]});
       }
-      int found[2] = {0, 0};
-      be_.download(found, scal_.data() + 3, 2);
+      std::vector<int> ends(static_cast<std::size_t>(batch) + 1);
+      be_.download(ends.data(), round_end_.data(), static_cast<std::size_t>(batch));
+      be_.download(ends.data() + batch, count[round % 2], 1);  // pending after the batch
       be_.sync();
-      colours_ = found[1];
-      if (found[0] == 0) break;
+      for (int r = 0; r < batch; ++r)  // every round with pending edges colours at least one
+        if (ends[static_cast<std::size_t>(r)] > colour_offset_.back()) colour_offset_.push_back(ends[static_cast<std::size_t>(r)]);
+      if (ends[static_cast<std::size_t>(batch)] == 0) break;
     }
-    return edge_colour_[in].data();
+    colours_ = static_cast<int>(colour_offset_.size()) - 1;
+    return edge_word_.data();
   }
 
   // Host copy of a device int (the backend synchronises).
@@ -232,8 +245,13 @@ class Pipeline final : public PipelineBase {
   Buf<int> keep_, keep_scan_;
   Grid awake_grid_, frozen_grid_;
   Buf<Counter> ctr_;
-  Buf<int> mate_, edge_colour_[2];  // the coloured solver's edges (colouring.hpp), per list entry
+  // The coloured solver's edges (colouring.hpp): per list entry its mate,
+  // key and colour word; the pending lists of the colouring rounds; the edges
+  // (owner entries) in colour order; where each round's edges end.
+  Buf<int> mate_, edge_word_, pending_[2], edges_, round_end_, colour_scal_;
   Buf<unsigned long long> edge_key_;
+  std::vector<int> colour_offset_;   // host: colour c's edges are edges_[offset[c], offset[c + 1])
+  Buf<int> immovable_;               // per slot: contacts with immovable things (ContactsK)
   Buf<int> scal_;  // [0]: woken count, [1]: error (4 i + code, or INT_MAX), [2]: longest neighbour list,
                    // [3]: edges left uncoloured, [4]: colours used
   bool frozen_dirty_ = true;
@@ -348,6 +366,7 @@ void Pipeline<B>::step() {
   const auto imm = static_cast<std::size_t>(n_active) * static_cast<std::size_t>(sc_.imm_stride()) + 1;
   imm_[par].resize(imm);
   ground_mask_[par].resize(static_cast<std::size_t>(n_active) + 1);
+  immovable_.resize(static_cast<std::size_t>(n_active) + 1);
   const SolverData d{active, body_, sc_, nl, dir_count_.data(), sdf_c0_.data(), sdf_c1_.data(),
                      imm_[par].data(), pair_[par].data()};
   if (n_active > 0) {
@@ -356,8 +375,8 @@ void Pipeline<B>::step() {
                                 ground_mask_[pp].data(), pair_[pp].data()};
     be_.for_n(n_active, ContactsK{frame_, d, prev, ContactIndex{slot_of_[par].data(), stamp_[par].data()},
                                   sdf_c0_.data(), sdf_c1_.data(), support_idx_.data(), support_n_.data(),
-                                  dir_count_.data(), ground_mask_[par].data(), vel_[1].data(), ang_[1].data(),
-                                  ctr_.data()});
+                                  dir_count_.data(), ground_mask_[par].data(), immovable_.data(), vel_[1].data(),
+                                  ang_[1].data(), ctr_.data()});
   }
 
   // 5: the solver's iterations alternate between buffers 1 and 2.
@@ -374,15 +393,17 @@ void Pipeline<B>::step() {
     if (opt_.pair_solver == GpuOptions::PairSolver::kColoured) {
       const int* colour = colour_edges(n_active, active, nl, par, contacts && n_awake > 0);
       for (int it = 0; it < iterations; ++it) {  // in place in buffer 1
-        be_.for_n(n_active, SolveK{d, order, colour, vel_[1].data(), ang_[1].data(), vel_[1].data(),
-                                   ang_[1].data(), ctr_.data()});
+        be_.for_n(n_active, SolveK{d, order, colour, immovable_.data(), vel_[1].data(), ang_[1].data(),
+                                   vel_[1].data(), ang_[1].data(), ctr_.data()});
         for (int c = 0; c < colours_; ++c)
-          be_.for_n(n_active, SolvePairsK{d, mate_.data(), colour, c, vel_[1].data(), ang_[1].data(), ctr_.data()});
+          be_.for_n(colour_offset_[c + 1] - colour_offset_[c],
+                    SolveEdgeK{d, edges_.data() + colour_offset_[c], mate_.data(), vel_[1].data(), ang_[1].data(),
+                               ctr_.data()});
       }
     } else {
       for (int it = 0; it < iterations; ++it) {
         const int in = it % 2 == 0 ? 1 : 2, out = 3 - in;
-        be_.for_n(n_active, SolveK{d, order, nullptr, vel_[in].data(), ang_[in].data(), vel_[out].data(),
+        be_.for_n(n_active, SolveK{d, order, nullptr, nullptr, vel_[in].data(), ang_[in].data(), vel_[out].data(),
                                    ang_[out].data(), ctr_.data()});
         last = out;
       }

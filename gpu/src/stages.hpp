@@ -60,6 +60,25 @@ LS_HD inline void max_to(int* c, int v) {
 #endif
 }
 
+// *counter += 1, returning the value before (a position to write to); on the
+// device the threads of a warp that claim from the same counter share one
+// atomic. Which thread gets which position depends on the order of the
+// threads: only for outputs whose order does not matter.
+LS_HD inline int claim_one(int* counter) {
+#if defined(__CUDA_ARCH__)
+  const unsigned active = __activemask();
+  const unsigned same = __match_any_sync(active, reinterpret_cast<unsigned long long>(counter));
+  const int lane = static_cast<int>(threadIdx.x & 31u);
+  const int leader = __ffs(static_cast<int>(same)) - 1;
+  int base = 0;
+  if (lane == leader) base = atomicAdd(counter, __popc(same));
+  base = __shfl_sync(same, base, leader);
+  return base + __popc(same & ((1u << lane) - 1u));
+#else
+  return (*counter)++;
+#endif
+}
+
 // Sets *flag to 1; true for the one caller that found it 0.
 LS_HD inline bool claim_flag(int* flag) {
 #if defined(__CUDA_ARCH__)
@@ -697,6 +716,7 @@ struct ContactsK {
   F4* support_n;
   Counter* dir_count;
   int* ground_mask;  // this frame's, per slot
+  int* has_immovable;  // per slot: 1 when the body has a contact with an immovable thing (SolveK's work)
   F4* vout;
   F4* wout;
   Counter* ctr;
@@ -777,6 +797,7 @@ struct ContactsK {
       }
     }
     Counter directions = 0;
+    unsigned immovable_bodies = 0;
     int q = had ? prev.lists.begin(prev_slot) : 0;  // walks the previous list
     const int q_end = had ? q + ro(prev.lists.count + prev_slot) : 0;
     for (int t = beg; t < beg + m; ++t) {
@@ -787,7 +808,9 @@ struct ContactsK {
       const PairContact<float> pc = canonical_pair(sc, i, p, a, j, pj, xyz(ro(b.aabb + j)));
       const Vec3<float> n_i = lower ? pc.n : -pc.n;  // towards body i
       const int shift = 8 * direction_of(n_i);
-      if (is_awake(ro(b.flags + j)) && ((directions >> shift) & 255u) < 255u) directions += Counter{1} << shift;
+      const bool j_awake = is_awake(ro(b.flags + j));
+      if (!j_awake) ++immovable_bodies;
+      if (j_awake && ((directions >> shift) & 255u) < 255u) directions += Counter{1} << shift;
       if (pc.penetration > -slop && n_i.y >= min_up) add_support(j, n_i);
       const BodyView<float> other0 = view_of(b, j, b.vel, b.ang);
       const Vec3<float> r1 = pc.point - (lower ? p : pj), r2 = pc.point - (lower ? pj : p);
@@ -816,6 +839,7 @@ struct ContactsK {
       store_state(c, d.pair[t].a, d.pair[t].b);
     }
     dir_count[i] = directions;
+    has_immovable[k] = ground_contacts + sdf_contacts + immovable_bodies > 0 ? 1 : 0;
     support_idx[i] = support;
     support_n[i] = f4(support != kNoSupport ? normalize(support_sum) : Vec3<float>{}, 0.0f);
     vout[i] = f4(self.v, 0.0f);
@@ -837,11 +861,12 @@ struct ContactsK {
 // of the two bodies' contact counts in the contact's direction (mass
 // splitting) over the relaxation. With `edge_colour` (the coloured solver,
 // colouring.hpp) the body visits only its immovable contacts, in place (vin
-// = vout): the contacts with active bodies are SolvePairsK's.
+// = vout): the contacts with active bodies are SolveEdgeK's.
 struct SolveK {
   SolverData d;
   const int* order;  // thread -> slot (WorkOrder), or null: thread k is slot k
   const int* edge_colour;  // the coloured solver's colours per entry, or null: Jacobi
+  const int* has_immovable;  // per slot (ContactsK): the coloured solver skips bodies without immovable contacts
   const F4* vin;
   const F4* win;
   F4* vout;
@@ -851,12 +876,13 @@ struct SolveK {
     const BodyArrays& b = d.b;
     const SceneConsts& sc = d.sc;
     const int k = order != nullptr ? ro(order + thread) : thread;
+    const bool coloured = edge_colour != nullptr;
+    if (coloured && ro(has_immovable + k) == 0) return;  // nothing to visit; the velocity stays in place
     const int i = ro(d.list + k);
     const F4 pi4 = ro(b.pos + i), h4 = ro(b.half + i);
     const Vec3<float> p = xyz(pi4), a = xyz(ro(b.aabb + i)), h = xyz(h4);
     const Mat3<float> R = rotation_matrix(quat(ro(b.rot + i)));
     const Vec3<float> I = xyz(ro(b.inert + i));
-    const bool coloured = edge_colour != nullptr;
     const Vec3<float> v0 = xyz(coloured ? vin[i] : ro(vin + i)), w0 = xyz(coloured ? win[i] : ro(win + i));
     BodyView<float> self = dynamic_view(v0, w0, pi4.w, R, I);
     const float tol = sc.P.contact_tolerance;
@@ -903,7 +929,7 @@ struct SolveK {
     const int beg = d.lists.begin(k), end = d.lists.end(k);
     for (int t = beg; t < end; ++t) {
       const int j = ro(d.lists.nbr + t);
-      // The coloured solver's edges are SolvePairsK's; an awake j that is no
+      // The coloured solver's edges are SolveEdgeK's; an awake j that is no
       // edge (its list lacks i: cannot happen, the pair test is symmetric) is
       // met as immovable, so that no velocity is read that another thread writes.
       if (coloured && ro(edge_colour + t) != kNoEdge) continue;

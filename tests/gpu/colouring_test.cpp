@@ -1,5 +1,6 @@
-// The coloured solver's schedule (gpu/src/colouring.hpp): PairEdgesK and
-// ColourRoundK on random contact graphs, run as the host build runs them.
+// The coloured solver's schedule (gpu/src/colouring.hpp): PairEdgesK,
+// ColourRoundK and RoundEndK on random contact graphs, run as the host build
+// runs them.
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
@@ -55,9 +56,8 @@ Graph random_graph() {
 }
 
 struct Colouring {
-  std::vector<int> mate, colour;
+  std::vector<int> mate, colour, edges;  // edges: the owner entries in colour order
   int colours = 0;
-  int rounds = 0;
 };
 
 // The pipeline's colour_edges with each kernel's threads in the given order.
@@ -72,36 +72,42 @@ Colouring colour(Graph& g, bool reversed) {
   const std::size_t entries = g.nbr.size() + 1;
   Colouring c;
   c.mate.assign(entries, -1);
+  c.colour.assign(entries, 0);
   std::vector<unsigned long long> key(entries);
-  std::vector<int> words[2] = {std::vector<int>(entries), std::vector<int>(entries)};
+  std::vector<int> pending[2] = {std::vector<int>(entries), std::vector<int>(entries)}, edges(entries);
+  int count[2] = {0, 0}, total = 0;
   auto launch = [&](const auto& f) {
     for (int t = 0; t < slots; ++t) f(reversed ? slots - 1 - t : t);
   };
-  launch(PairEdgesK{g.list.data(), b, lists, g.slot_of.data(), &grid, c.mate.data(), key.data(), words[0].data(),
-                    words[1].data()});
-  int in = 0;
-  for (;;) {
-    int left = 0, colours = 0;
-    launch(ColourRoundK{g.list.data(), lists, g.slot_of.data(), c.mate.data(), key.data(), words[in].data(),
-                        words[1 - in].data(), c.rounds, true, &left, &colours});
-    in = 1 - in;
-    ++c.rounds;
-    c.colours = colours;
-    if (left == 0 || c.rounds > 10000) break;
+  launch(PairEdgesK{g.list.data(), b, lists, g.slot_of.data(), &grid, c.mate.data(), key.data(), c.colour.data(),
+                    pending[0].data(), &count[0]});
+  for (int round = 0; count[round % 2] > 0 && round < 10000; ++round) {
+    const int in = round % 2, out = 1 - in;
+    launch(ColourRoundK{g.list.data(), lists, g.slot_of.data(), c.mate.data(), key.data(), c.colour.data(), round,
+                        pending[in].data(), &count[in], pending[out].data(), &count[out], edges.data(), &total,
+                        slots});
+    int end = 0;
+    RoundEndK{&total, &end, &count[in]}(0);
+    c.colours = round + 1;
   }
-  c.colour = words[in];
+  c.edges.assign(edges.begin(), edges.begin() + total);
   return c;
 }
 
 // Every contact between two awake bodies is an edge with one colour on both
 // copies; no two edges of a colour share a body; of two edges that share a
 // body, the one first in the order (lower band, then hash) has the lower
-// colour; the colours are 0 .. colours-1; the result does not depend on the
-// order of the threads.
+// colour; the colours are 0 .. colours-1; the edge list holds each edge once,
+// by colour; the colours do not depend on the order of the threads.
 RC_GTEST_PROP(Colouring, IsAMatchingPerColourInTheEdgesOrder, ()) {
   Graph g = random_graph();
   const Colouring c = colour(g, false);
   RC_ASSERT(colour(g, true).colour == c.colour);
+  for (std::size_t e = 1; e < c.edges.size(); ++e)
+    RC_ASSERT(c.colour[static_cast<std::size_t>(c.edges[e - 1])] <= c.colour[static_cast<std::size_t>(c.edges[e])]);
+  std::vector<int> listed = c.edges;
+  std::sort(listed.begin(), listed.end());
+  RC_ASSERT(std::adjacent_find(listed.begin(), listed.end()) == listed.end());
   struct Edge { int lo, hi, colour; unsigned long long key; };
   std::vector<Edge> edges;
   for (std::size_t k = 0; k < g.list.size(); ++k) {
@@ -119,12 +125,14 @@ RC_GTEST_PROP(Colouring, IsAMatchingPerColourInTheEdgesOrder, ()) {
       RC_ASSERT(c.colour[static_cast<std::size_t>(m)] == c.colour[ut]);
       RC_ASSERT(c.colour[ut] >= 0);
       RC_ASSERT(c.colour[ut] < c.colours);
+      if (i < j) RC_ASSERT(std::binary_search(listed.begin(), listed.end(), t));
       if (i < j)
         edges.push_back({i, j, c.colour[ut],
                          edge_key(i, j, g.pos[static_cast<std::size_t>(i)].y, g.pos[static_cast<std::size_t>(j)].y, 1.0f)});
     }
   }
   std::vector<bool> used(static_cast<std::size_t>(c.colours), false);
+  RC_ASSERT(listed.size() == edges.size());
   for (const Edge& e : edges) used[static_cast<std::size_t>(e.colour)] = true;
   RC_ASSERT(std::all_of(used.begin(), used.end(), [](bool u) { return u; }));
   for (std::size_t a = 0; a < edges.size(); ++a)
