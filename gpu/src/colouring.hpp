@@ -6,9 +6,17 @@
 // other, all contacts of a colour in parallel, each updating both bodies'
 // velocities in place, as World<T> does one contact at a time.
 #pragma once
-#include "stages.hpp"
+#include "kernel_support.hpp"
+#include "lockstep/gpu/elements.hpp"
+#include "lockstep/gpu/soa.hpp"
 
 namespace lockstep::gpu {
+
+// A neighbour-list entry's colour in the coloured solver (colouring.hpp):
+// kNoEdge when its body is not active (an immovable contact, solved by
+// SolveK), kUncoloured until a colouring round colours it, else the colour
+// (0, 1, ...).
+inline constexpr int kNoEdge = -2, kUncoloured = -1;
 
 // The order of the edges: lowest first, by the band of their height (the
 // bodies' mean y in bands of H, the awake grid's largest AABB half extent:
@@ -55,47 +63,43 @@ LS_HD inline void store_word(int* p, int v) {
 #endif
 }
 
-// The entries of body i's list that are edges: j awake (every awake body is
-// active) and i in j's list. mate[t] is the entry of the same contact in j's
-// list (its copy of the contact state), key[t] the edge's place in the order,
-// word[t] kUncoloured (kNoEdge for the other entries); the owner's entry
-// (the lower body's) of each edge goes to the pending list of round 0. Runs
-// after ContactsK, which sorted every list and wrote slot_of.
-struct PairEdgesK {
-  const int* list;
-  BodyArrays b;
-  NeighbourLists lists;
-  const int* slot_of;
-  const GridParams* grid;  // the awake grid: its cells are 2 H wide
-  int* mate;
-  unsigned long long* key;
-  int* word;
-  int* pending;
-  int* pending_count;
-  LS_HD void operator()(int k) const {
-    const int i = ro(list + k);
-    const float inv_band = ro(&grid->inv_cell) * Num<float>::from_int(2);
-    for (int t = lists.begin(k); t < lists.end(k); ++t) {
-      const int j = ro(lists.nbr + t);
-      int m = -1;
-      if (is_awake(ro(b.flags + j))) {
-        const int s = ro(slot_of + j);
-        int lo = lists.begin(s), hi = lists.end(s);
-        while (lo < hi) {  // binary search in j's ascending list
-          const int mid = lo + (hi - lo) / 2;
-          if (ro(lists.nbr + mid) < i) lo = mid + 1;
-          else hi = mid;
-        }
-        if (lo < lists.end(s) && ro(lists.nbr + lo) == i) m = lo;  // else not mutual: no edge (kept safe)
-      }
-      mate[t] = m;
-      const float yi = ro(b.pos + i).y, yj = ro(b.pos + j).y;
-      key[t] = i < j ? edge_key(i, j, yi, yj, inv_band) : edge_key(j, i, yj, yi, inv_band);
-      word[t] = m < 0 ? kNoEdge : kUncoloured;
-      if (m >= 0 && i < j) pending[claim_one(pending_count)] = t;
-    }
-  }
+// Where the colouring's per-entry state lives (each array one element per
+// neighbour-list entry, but the pending list and its count).
+struct EdgeArrays {
+  const int* slot_of = nullptr;  // this frame's slot of each active body
+  const float* inv_cell = nullptr;  // the awake grid's 1 / (2 H), H its largest AABB half extent
+  int* mate = nullptr;           // null: no colouring (the Jacobi solver)
+  unsigned long long* key = nullptr;
+  int* word = nullptr;
+  int* pending = nullptr;
+  int* pending_count = nullptr;
 };
+
+// Entry t of body i's list, body j (at heights yi, yj): an edge when j is
+// awake (every awake body is active) and i is in j's list, whose entry is
+// mate[t] (its copy of the contact state); key[t] is the edge's place in the
+// order, word[t] kUncoloured (kNoEdge for an entry that is no edge), and the
+// owner's entry (the lower body's) goes to the pending list of round 0.
+// Needs every list sorted (GatherK) and slot_of written.
+LS_HD inline void init_edge(const EdgeArrays& e, const NeighbourLists& lists, int i, int t, int j, bool j_awake,
+                            float yi, float yj) {
+  int m = -1;
+  if (j_awake) {
+    const int s = ro(e.slot_of + j);
+    int lo = lists.begin(s), hi = lists.end(s);
+    while (lo < hi) {  // binary search in j's ascending list
+      const int mid = lo + (hi - lo) / 2;
+      if (ro(lists.nbr + mid) < i) lo = mid + 1;
+      else hi = mid;
+    }
+    if (lo < lists.end(s) && ro(lists.nbr + lo) == i) m = lo;  // else not mutual: no edge (kept safe)
+  }
+  e.mate[t] = m;
+  const float inv_band = ro(e.inv_cell) * Num<float>::from_int(2);  // bands of H
+  e.key[t] = i < j ? edge_key(i, j, yi, yj, inv_band) : edge_key(j, i, yj, yi, inv_band);
+  e.word[t] = m < 0 ? kNoEdge : kUncoloured;
+  if (m >= 0 && i < j) e.pending[claim_one(e.pending_count)] = t;
+}
 
 // Round r of a parallel colouring in the edges' order (Jones-Plassmann): a
 // pending (uncoloured) edge that goes before every edge it shares a body with
@@ -164,47 +168,6 @@ struct RoundEndK {
   LS_HD void operator()(int) const {
     *round_end = *total;
     *count_to_clear = 0;
-  }
-};
-
-// One colour of one iteration, a thread per edge: the contact (body 1 = the
-// lower index, its owner, as World<T>) solved on both bodies' current
-// velocities, which it updates in place (no other edge of the colour touches
-// either body); both copies of the contact state are rewritten.
-struct SolveEdgeK {
-  SolverData d;
-  const int* edges;  // this colour's
-  const int* mate;
-  F4* vel;
-  F4* ang;
-  Counter* ctr;
-  LS_HD void operator()(int e) const {
-    const BodyArrays& b = d.b;
-    const SceneConsts& sc = d.sc;
-    const int t = ro(edges + e);
-    const int i = ro(d.list + t / d.lists.stride), j = ro(d.lists.nbr + t);
-    const F4 pi4 = ro(b.pos + i), pj4 = ro(b.pos + j);
-    const Vec3<float> p = xyz(pi4), pj = xyz(pj4);
-    const PairContact<float> pc = pair_contact(p, xyz(ro(b.aabb + i)), pj, xyz(ro(b.aabb + j)), sc.half_tol,
-                                               sc.P.contact_tolerance);
-    BodyView<float> A = dynamic_view(xyz(vel[i]), xyz(ang[i]), pi4.w, rotation_matrix(quat(ro(b.rot + i))),
-                                     xyz(ro(b.inert + i)));
-    BodyView<float> B = dynamic_view(xyz(vel[j]), xyz(ang[j]), pj4.w, rotation_matrix(quat(ro(b.rot + j))),
-                                     xyz(ro(b.inert + j)));
-    ContactState<float> cs = load_state(d.pair[t].a, d.pair[t].b);
-    SolveCounts counts;
-    solve_contact(A, pc.point - p, B, pc.point - pj, pc.n, pc.penetration, cs, sc.friction, sc.gravity, 1.0f, sc.P,
-                  counts);
-    vel[i] = f4(A.v, 0.0f);
-    ang[i] = f4(A.w, 0.0f);
-    vel[j] = f4(B.v, 0.0f);
-    ang[j] = f4(B.w, 0.0f);
-    const F4 state{cs.j_n, cs.j_t.x, cs.j_t.y, cs.j_t.z};
-    d.pair[t].a = state;
-    d.pair[ro(mate + t)].a = state;
-    add_counter(&ctr[kCSolverContacts], counts.solver_contacts);
-    add_counter(&ctr[kCNormalImpulses], counts.normal_impulses);
-    add_counter(&ctr[kCFrictionSteps], counts.friction_steps);
   }
 };
 

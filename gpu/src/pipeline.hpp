@@ -159,20 +159,13 @@ class Pipeline final : public PipelineBase {
     g.cells = gp.table;
   }
 
-  // The coloured solver's edges and their colours (colouring.hpp): rounds in
-  // batches (the first with as many rounds as last frame had colours, then
-  // 4), each round over the edges still pending, until none is; colour r is
-  // round r, and its edges are edges_[colour_offset_[r], colour_offset_[r +
-  // 1]). One synchronisation per batch. Sets colours_, colour_offset_ and
-  // edges_; returns the colour of each list entry.
-  const int* colour_edges(int n_active, const int* active, const NeighbourLists& nl, int par, bool pairs) {
-    const int previous = colours_;
-    colours_ = 0;
-    colour_offset_.assign(1, 0);
-    if (!pairs) {  // empty lists (no body-body contacts): nothing to colour
-      edge_word_.resize(1);
-      return edge_word_.data();
-    }
+  // The coloured solver's per-entry state, set up by ContactsK (init_edge):
+  // no arrays (mate null) without body-body contacts or with the Jacobi
+  // solver.
+  EdgeArrays prepare_edges(int n_active, const NeighbourLists& nl, int par, bool coloured) {
+    coloured_ = coloured;
+    EdgeArrays e;
+    if (!coloured) return e;
     const auto entries = static_cast<std::size_t>(n_active) * static_cast<std::size_t>(nl.stride) + 1;
     mate_.resize(entries);
     edge_key_.resize(entries);
@@ -181,10 +174,32 @@ class Pipeline final : public PipelineBase {
     for (auto& p : pending_) p.resize(entries);
     colour_scal_.resize(3);  // [0]: edges coloured, [1], [2]: pending counts (ping-pong)
     be_.fill_int(colour_scal_.data(), 0, 3);
+    e.slot_of = slot_of_[par].data();
+    e.inv_cell = &awake_grid_.gp.data()->inv_cell;
+    e.mate = mate_.data();
+    e.key = edge_key_.data();
+    e.word = edge_word_.data();
+    e.pending = pending_[0].data();
+    e.pending_count = colour_scal_.data() + 1;
+    return e;
+  }
+
+  // The colouring of the edges that ContactsK set up (colouring.hpp): rounds
+  // in batches (the first with as many rounds as last frame had colours,
+  // then 4), each round over the edges still pending, until none is; colour
+  // r is round r, and its edges are edges_[colour_offset_[r],
+  // colour_offset_[r + 1]). One synchronisation per batch. Sets colours_ and
+  // colour_offset_; returns the colour of each list entry.
+  const int* colour_edges(int n_active, const int* active, const NeighbourLists& nl, int par) {
+    const int previous = colours_;
+    colours_ = 0;
+    colour_offset_.assign(1, 0);
+    if (!coloured_) {  // empty lists (no body-body contacts): nothing to colour
+      edge_word_.resize(1);
+      return edge_word_.data();
+    }
     int* total = colour_scal_.data();
     int* count[2] = {colour_scal_.data() + 1, colour_scal_.data() + 2};
-    be_.for_n(n_active, PairEdgesK{active, body_, nl, slot_of_[par].data(), awake_grid_.gp.data(), mate_.data(),
-                                   edge_key_.data(), edge_word_.data(), pending_[0].data(), count[0]});
     int round = 0;
     for (int batch = std::max(1, previous);; batch = 4) {
       round_end_.resize(static_cast<std::size_t>(batch) + 1);
@@ -255,7 +270,8 @@ class Pipeline final : public PipelineBase {
   Buf<int> scal_;  // [0]: woken count, [1]: error (4 i + code, or INT_MAX), [2]: longest neighbour list,
                    // [3]: edges left uncoloured, [4]: colours used
   bool frozen_dirty_ = true;
-  int colours_ = 0;  // the coloured solver's colours this frame
+  bool coloured_ = false;  // this frame's body-body contacts are coloured
+  int colours_ = 0;        // the coloured solver's colours this frame
 };
 
 template <class B>
@@ -318,16 +334,17 @@ void Pipeline<B>::step() {
     }
     work = WorkOrder{work_key_[0].data(), work_slot_[0].data()};
   }
+  const ContactIndex index{slot_of_[par].data(), stamp_[par].data()};
   auto gather = [&](bool first, bool awake_part, bool woken_part) {
     const NeighbourLists l = lists();
     if (awake_part)
       be_.for_n(n_awake, GatherK{active, 0, body_, sc_, awake_grid_.view(), frozen_grid_.view(), false, first, l,
-                                 scal_.data() + 2, wake_flag_.data(), woken_.data(), scal_.data(), work,
-                                 ctr_.data()});
+                                 scal_.data() + 2, wake_flag_.data(), woken_.data(), scal_.data(), work, index,
+                                 frame_, ctr_.data()});
     if (woken_part)
       be_.for_n(n_active - n_awake, GatherK{active + n_awake, n_awake, body_, sc_, awake_grid_.view(),
                                             frozen_grid_.view(), true, first, l, scal_.data() + 2, wake_flag_.data(),
-                                            woken_.data(), scal_.data(), work, ctr_.data()});
+                                            woken_.data(), scal_.data(), work, index, frame_, ctr_.data()});
   };
   // The largest list found (when above the stride): the blocks grow and all
   // lists are gathered again.
@@ -353,8 +370,9 @@ void Pipeline<B>::step() {
       counters_.wakes += static_cast<std::uint64_t>(n_woken);
       frozen_dirty_ = true;
     }
-  } else if (n_awake > 0) {
+  } else if (n_awake > 0) {  // no gather: empty lists, and the slots for the warm start
     be_.fill_int(count_[par].data(), 0, static_cast<std::size_t>(n_awake));
+    be_.for_n(n_awake, SlotIndexK{active, index, frame_});
   }
   const NeighbourLists nl = lists();
 
@@ -373,8 +391,9 @@ void Pipeline<B>::step() {
     const PreviousContacts prev{frame_ - 1, slot_of_[pp].data(), stamp_[pp].data(),
                                 NeighbourLists{nbr_[pp].data(), count_[pp].data(), stride_[pp]}, imm_[pp].data(),
                                 ground_mask_[pp].data(), pair_[pp].data()};
-    be_.for_n(n_active, ContactsK{frame_, d, prev, ContactIndex{slot_of_[par].data(), stamp_[par].data()},
-                                  sdf_c0_.data(), sdf_c1_.data(), support_idx_.data(), support_n_.data(),
+    const EdgeArrays edges = prepare_edges(n_active, nl, par, contacts && n_awake > 0 &&
+                                                                   opt_.pair_solver == GpuOptions::PairSolver::kColoured);
+    be_.for_n(n_active, ContactsK{d, prev, edges, sdf_c0_.data(), sdf_c1_.data(), support_idx_.data(), support_n_.data(),
                                   dir_count_.data(), ground_mask_[par].data(), immovable_.data(), vel_[1].data(),
                                   ang_[1].data(), ctr_.data()});
   }
@@ -391,7 +410,7 @@ void Pipeline<B>::step() {
       order = work_slot_[r].data();
     }
     if (opt_.pair_solver == GpuOptions::PairSolver::kColoured) {
-      const int* colour = colour_edges(n_active, active, nl, par, contacts && n_awake > 0);
+      const int* colour = colour_edges(n_active, active, nl, par);
       for (int it = 0; it < iterations; ++it) {  // in place in buffer 1
         be_.for_n(n_active, SolveK{d, order, colour, immovable_.data(), vel_[1].data(), ang_[1].data(),
                                    vel_[1].data(), ang_[1].data(), ctr_.data()});

@@ -9,133 +9,12 @@
 #pragma once
 #include <cstdint>
 
+#include "colouring.hpp"
+#include "kernel_support.hpp"
 #include "lockstep/gpu/elements.hpp"
 #include "lockstep/gpu/soa.hpp"
 
 namespace lockstep::gpu {
-
-// ---------------------------------------------------------------------------
-// Host/device primitives.
-
-using Counter = unsigned long long;
-
-// Counters in the order of StageCounters' fields.
-enum CounterId : int {
-  kCIntegrateVelocity = 0, kCDamping, kCIntegratePosition, kCBroadphaseBodies, kCPairsTested, kCGroundContacts,
-  kCSdfContacts, kCBodyContacts, kCSolverContacts, kCNormalImpulses, kCRestitutionBounces, kCFrictionSteps,
-  kCCorrections, kCSettlingBodies, kCSleepUpdates, kCWakes, kCounterCount
-};
-
-// Adds v to a counter: a warp-aggregated integer atomic on the device (integer
-// sums do not depend on order), a plain add in the host build.
-LS_HD inline void add_counter(Counter* c, unsigned v) {
-#if defined(__CUDA_ARCH__)
-  const unsigned mask = __activemask();
-  const unsigned sum = __reduce_add_sync(mask, v);
-  if (static_cast<int>(threadIdx.x & 31u) == __ffs(static_cast<int>(mask)) - 1 && sum != 0u)
-    atomicAdd(c, static_cast<Counter>(sum));
-#else
-  *c += v;
-#endif
-}
-
-// *c += v and *c = max(*c, v) for int counters, warp-aggregated on the
-// device like add_counter (integer sums and maxima do not depend on order).
-LS_HD inline void add_to(int* c, int v) {
-#if defined(__CUDA_ARCH__)
-  const unsigned mask = __activemask();
-  const int sum = __reduce_add_sync(mask, v);
-  if (static_cast<int>(threadIdx.x & 31u) == __ffs(static_cast<int>(mask)) - 1 && sum != 0) atomicAdd(c, sum);
-#else
-  *c += v;
-#endif
-}
-LS_HD inline void max_to(int* c, int v) {
-#if defined(__CUDA_ARCH__)
-  const unsigned mask = __activemask();
-  const int most = __reduce_max_sync(mask, v);
-  if (static_cast<int>(threadIdx.x & 31u) == __ffs(static_cast<int>(mask)) - 1) atomicMax(c, most);
-#else
-  if (v > *c) *c = v;
-#endif
-}
-
-// *counter += 1, returning the value before (a position to write to); on the
-// device the threads of a warp that claim from the same counter share one
-// atomic. Which thread gets which position depends on the order of the
-// threads: only for outputs whose order does not matter.
-LS_HD inline int claim_one(int* counter) {
-#if defined(__CUDA_ARCH__)
-  const unsigned active = __activemask();
-  const unsigned same = __match_any_sync(active, reinterpret_cast<unsigned long long>(counter));
-  const int lane = static_cast<int>(threadIdx.x & 31u);
-  const int leader = __ffs(static_cast<int>(same)) - 1;
-  int base = 0;
-  if (lane == leader) base = atomicAdd(counter, __popc(same));
-  base = __shfl_sync(same, base, leader);
-  return base + __popc(same & ((1u << lane) - 1u));
-#else
-  return (*counter)++;
-#endif
-}
-
-// Sets *flag to 1; true for the one caller that found it 0.
-LS_HD inline bool claim_flag(int* flag) {
-#if defined(__CUDA_ARCH__)
-  return atomicExch(flag, 1) == 0;
-#else
-  if (*flag != 0) return false;
-  *flag = 1;
-  return true;
-#endif
-}
-
-LS_HD inline int fetch_add(int* counter, int v) {
-#if defined(__CUDA_ARCH__)
-  return atomicAdd(counter, v);
-#else
-  const int old = *counter;
-  *counter += v;
-  return old;
-#endif
-}
-
-LS_HD inline void store_max(int* target, int v) {
-#if defined(__CUDA_ARCH__)
-  atomicMax(target, v);
-#else
-  if (v > *target) *target = v;
-#endif
-}
-
-LS_HD inline void store_min(int* target, int v) {
-#if defined(__CUDA_ARCH__)
-  atomicMin(target, v);
-#else
-  if (v < *target) *target = v;
-#endif
-}
-
-// A load from an array that no thread of the running kernel writes: on the
-// device through the read-only data path (ld.global.nc), which lets the
-// compiler issue it ahead of the kernel's stores (more loads in flight);
-// a plain load in the host build. Only the data path differs, never the value.
-LS_HD inline F4 ro(const F4* p) {
-#if defined(__CUDA_ARCH__)
-  const float4 v = __ldg(reinterpret_cast<const float4*>(p));
-  return F4{v.x, v.y, v.z, v.w};
-#else
-  return *p;
-#endif
-}
-template <class T>
-LS_HD inline T ro(const T* p) {
-#if defined(__CUDA_ARCH__)
-  return __ldg(p);
-#else
-  return *p;
-#endif
-}
 
 // ---------------------------------------------------------------------------
 // Grids. Each member body is filed under the cell of its centre; entries are
@@ -460,18 +339,6 @@ struct CellTableK {
   }
 };
 
-// ---------------------------------------------------------------------------
-// Neighbour lists: each active body's list is the block [k stride, k stride +
-// count[k]) of the frame's list array (slot k), ascending by body index once
-// ContactsK has sorted it.
-struct NeighbourLists {
-  int* nbr = nullptr;
-  int* count = nullptr;
-  int stride = 0;
-  LS_HD int begin(int k) const { return k * stride; }
-  LS_HD int end(int k) const { return k * stride + count[k]; }
-};
-
 // The threads of the solver's iterations in an order of their work (a
 // scheduling choice: each slot's result does not depend on the thread that
 // computes it). A warp runs the union of its threads' paths, so within
@@ -498,6 +365,13 @@ inline int work_key_bits(int n) {
   return bits;
 }
 
+// Where this frame's contacts of body i are, for next frame's warm start (eq
+// 96): its slot, written with the frame number (double-buffered by frame parity).
+struct ContactIndex {
+  int* slot_of;  // per body
+  int* stamp;    // per body: frame at which slot_of was written
+};
+
 // Stages 2-4: each active body gathers the bodies whose (grown) AABB overlaps
 // its own, up to `stride` of them (the count goes on: the host enlarges the
 // blocks and gathers again when one overflows), and wakes (eq 81) sleeping
@@ -518,10 +392,14 @@ struct GatherK {
   int* woken;
   int* n_woken;
   WorkOrder order;  // keys to write, or none
+  ContactIndex index;
+  int frame;
   Counter* ctr;
   LS_HD void operator()(int k) const {
     const int i = ro(list + k);
     const int slot = slot0 + k;
+    index.slot_of[i] = slot;
+    index.stamp[i] = frame;
     const Vec3<float> p = xyz(ro(b.pos + i)), a = xyz(ro(b.aabb + i));
     int* out = lists.nbr + slot * lists.stride;
     unsigned tested = 0, contacts = 0;
@@ -554,8 +432,15 @@ struct GatherK {
         other(j, xyz(ro(b.pos + j)), xyz(ro(b.aabb + j)));
       }
     }
-    lists.count[slot] = m < lists.stride ? m : lists.stride;
+    const int kept = m < lists.stride ? m : lists.stride;
+    lists.count[slot] = kept;
     if (m > lists.stride) store_max(max_count, m);
+    for (int s = 1; s < kept; ++s) {  // insertion sort: ascending body index
+      const int x = out[s];
+      int t = s - 1;
+      while (t >= 0 && out[t] > x) { out[t + 1] = out[t]; --t; }
+      out[t + 1] = x;
+    }
     if (order.key != nullptr) {
       order.key[slot] = work_key(slot, sc.ground_on && p.y - a.y < sc.ground_y + sc.P.contact_tolerance, m);
       order.slot[slot] = slot;
@@ -564,6 +449,17 @@ struct GatherK {
       add_counter(&ctr[kCPairsTested], tested);
       add_counter(&ctr[kCBodyContacts], contacts);
     }
+  }
+};
+
+// Each active body's slot, when no gather runs (no body-body contacts).
+struct SlotIndexK {
+  const int* list;
+  ContactIndex index;
+  int frame;
+  LS_HD void operator()(int k) const {
+    index.slot_of[list[k]] = k;
+    index.stamp[list[k]] = frame;
   }
 };
 
@@ -607,13 +503,6 @@ LS_HD inline float jacobi_split(Counter counts_i, Counter counts_j, const Vec3<f
 inline constexpr int kNoSupport = -1;
 inline constexpr int kStaticSupport = -2;  // ground or SDF volume: v_s = 0
 
-// Where this frame's contacts of body i are, for next frame's warm start (eq
-// 96): its slot, written with the frame number (double-buffered by frame parity).
-struct ContactIndex {
-  int* slot_of;  // per body
-  int* stamp;    // per body: frame at which slot_of was written
-};
-
 // c ? x : y, one float at a time (a select of whole structs can put them in
 // local memory).
 LS_HD inline float pick(bool c, float x, float y) { return c ? x : y; }
@@ -638,12 +527,6 @@ LS_HD inline BodyView<float> view_of(const BodyArrays& b, int j, const F4* vel, 
   return dynamic_view(xyz(ro(vel + j)), xyz(ro(ang + j)), pj.w, rotation_matrix(quat(ro(b.rot + j))),
                       xyz(ro(b.inert + j)));
 }
-
-// A neighbour-list entry's colour in the coloured solver (colouring.hpp):
-// kNoEdge when its body is not active (an immovable contact, solved by
-// SolveK), kUncoloured until a colouring round colours it, else the colour
-// (0, 1, ...).
-inline constexpr int kNoEdge = -2, kUncoloured = -1;
 
 // Everything the solver kernels share.
 struct SolverData {
@@ -686,7 +569,6 @@ struct PreviousContacts {
 };
 
 // Stages 3 and 5 (preparation): each active body
-// - sorts its neighbour list (ascending index);
 // - finds its contacts in World<T>'s order (ground corners, SDF samples,
 //   bodies by index) and its support: the touching contacts whose normal
 //   towards it is within acos(support_normal_min) of up; the first is the
@@ -695,7 +577,8 @@ struct PreviousContacts {
 //   Jacobi mass splitting);
 // - prepares each contact for the solver (eqs 48-50, 58, 76, 86) with the
 //   velocities before the warm start, then warm-starts (eq 96) its own
-//   velocity, in that order. Reads b.vel/b.ang, writes vout/wout.
+//   velocity, in that order. Reads b.vel/b.ang, writes vout/wout;
+// - for the coloured solver, sets up each entry's edge (init_edge).
 //
 // Warm start of a body-body contact: World<T> keeps one cached impulse per
 // pair; here each active body kept its own copy last frame, and the two
@@ -706,10 +589,9 @@ struct PreviousContacts {
 // one, alongside), else the other body's copy. A ground corner that was no
 // contact last frame has no cached impulse (its slot is not written).
 struct ContactsK {
-  int frame;
   SolverData d;
   PreviousContacts prev;
-  ContactIndex index;
+  EdgeArrays edges;  // the coloured solver's per-entry state (edges.mate null: Jacobi)
   F4* sdf_c0;  // per slot, volume and sample: n, penetration
   F4* sdf_c1;  // contact point, hit (1/0)
   int* support_idx;
@@ -724,16 +606,8 @@ struct ContactsK {
     const BodyArrays& b = d.b;
     const SceneConsts& sc = d.sc;
     const int i = ro(d.list + k);
-    int* nbr = d.lists.nbr;
+    const int* nbr = d.lists.nbr;
     const int beg = d.lists.begin(k), m = d.lists.count[k];
-    for (int s = 1; s < m; ++s) {  // insertion sort: ascending body index
-      const int x = nbr[beg + s];
-      int t = s - 1;
-      while (t >= 0 && nbr[beg + t] > x) { nbr[beg + t + 1] = nbr[beg + t]; --t; }
-      nbr[beg + t + 1] = x;
-    }
-    index.slot_of[i] = k;
-    index.stamp[i] = frame;
     const F4 pi4 = ro(b.pos + i), h4 = ro(b.half + i), in4 = ro(b.inert + i);
     const Vec3<float> p = xyz(pi4), a = xyz(ro(b.aabb + i)), h = xyz(h4);
     const Mat3<float> R = rotation_matrix(quat(ro(b.rot + i)));
@@ -810,6 +684,7 @@ struct ContactsK {
       const int shift = 8 * direction_of(n_i);
       const bool j_awake = is_awake(ro(b.flags + j));
       if (!j_awake) ++immovable_bodies;
+      if (edges.mate != nullptr) init_edge(edges, d.lists, i, t, j, j_awake, p.y, pj.y);
       if (j_awake && ((directions >> shift) & 255u) < 255u) directions += Counter{1} << shift;
       if (pc.penetration > -slop && n_i.y >= min_up) add_support(j, n_i);
       const BodyView<float> other0 = view_of(b, j, b.vel, b.ang);
@@ -969,6 +844,47 @@ struct SolveK {
     }
     vout[i] = f4(self.v + dv, 0.0f);
     wout[i] = f4(self.w + dw, 0.0f);
+    add_counter(&ctr[kCSolverContacts], counts.solver_contacts);
+    add_counter(&ctr[kCNormalImpulses], counts.normal_impulses);
+    add_counter(&ctr[kCFrictionSteps], counts.friction_steps);
+  }
+};
+
+// One colour of one iteration, a thread per edge: the contact (body 1 = the
+// lower index, its owner, as World<T>) solved on both bodies' current
+// velocities, which it updates in place (no other edge of the colour touches
+// either body); both copies of the contact state are rewritten.
+struct SolveEdgeK {
+  SolverData d;
+  const int* edges;  // this colour's
+  const int* mate;
+  F4* vel;
+  F4* ang;
+  Counter* ctr;
+  LS_HD void operator()(int e) const {
+    const BodyArrays& b = d.b;
+    const SceneConsts& sc = d.sc;
+    const int t = ro(edges + e);
+    const int i = ro(d.list + t / d.lists.stride), j = ro(d.lists.nbr + t);
+    const F4 pi4 = ro(b.pos + i), pj4 = ro(b.pos + j);
+    const Vec3<float> p = xyz(pi4), pj = xyz(pj4);
+    const PairContact<float> pc = pair_contact(p, xyz(ro(b.aabb + i)), pj, xyz(ro(b.aabb + j)), sc.half_tol,
+                                               sc.P.contact_tolerance);
+    BodyView<float> A = dynamic_view(xyz(vel[i]), xyz(ang[i]), pi4.w, rotation_matrix(quat(ro(b.rot + i))),
+                                     xyz(ro(b.inert + i)));
+    BodyView<float> B = dynamic_view(xyz(vel[j]), xyz(ang[j]), pj4.w, rotation_matrix(quat(ro(b.rot + j))),
+                                     xyz(ro(b.inert + j)));
+    ContactState<float> cs = load_state(d.pair[t].a, d.pair[t].b);
+    SolveCounts counts;
+    solve_contact(A, pc.point - p, B, pc.point - pj, pc.n, pc.penetration, cs, sc.friction, sc.gravity, 1.0f, sc.P,
+                  counts);
+    vel[i] = f4(A.v, 0.0f);
+    ang[i] = f4(A.w, 0.0f);
+    vel[j] = f4(B.v, 0.0f);
+    ang[j] = f4(B.w, 0.0f);
+    const F4 state{cs.j_n, cs.j_t.x, cs.j_t.y, cs.j_t.z};
+    d.pair[t].a = state;
+    d.pair[ro(mate + t)].a = state;
     add_counter(&ctr[kCSolverContacts], counts.solver_contacts);
     add_counter(&ctr[kCNormalImpulses], counts.normal_impulses);
     add_counter(&ctr[kCFrictionSteps], counts.friction_steps);

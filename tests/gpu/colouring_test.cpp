@@ -1,6 +1,6 @@
-// The coloured solver's schedule (gpu/src/colouring.hpp): PairEdgesK,
-// ColourRoundK and RoundEndK on random contact graphs, run as the host build
-// runs them.
+// The coloured solver's schedule (gpu/src/colouring.hpp): init_edge (as
+// ContactsK calls it), ColourRoundK and RoundEndK on random contact graphs,
+// run as the host build runs them.
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
@@ -64,11 +64,7 @@ struct Colouring {
 Colouring colour(Graph& g, bool reversed) {
   const int slots = static_cast<int>(g.list.size());
   const NeighbourLists lists{g.nbr.data(), g.count.data(), g.stride};
-  BodyArrays b;
-  b.pos = g.pos.data();
-  b.flags = g.flags.data();
-  GridParams grid;
-  grid.inv_cell = 0.5f;  // bands of 1 m
+  const float inv_cell = 0.5f;  // bands of 1 m
   const std::size_t entries = g.nbr.size() + 1;
   Colouring c;
   c.mate.assign(entries, -1);
@@ -79,8 +75,22 @@ Colouring colour(Graph& g, bool reversed) {
   auto launch = [&](const auto& f) {
     for (int t = 0; t < slots; ++t) f(reversed ? slots - 1 - t : t);
   };
-  launch(PairEdgesK{g.list.data(), b, lists, g.slot_of.data(), &grid, c.mate.data(), key.data(), c.colour.data(),
-                    pending[0].data(), &count[0]});
+  EdgeArrays arrays;
+  arrays.slot_of = g.slot_of.data();
+  arrays.inv_cell = &inv_cell;
+  arrays.mate = c.mate.data();
+  arrays.key = key.data();
+  arrays.word = c.colour.data();
+  arrays.pending = pending[0].data();
+  arrays.pending_count = &count[0];
+  launch([&](int k) {  // ContactsK's part: every entry of slot k
+    const int i = g.list[static_cast<std::size_t>(k)];
+    for (int t = lists.begin(k); t < lists.end(k); ++t) {
+      const int j = g.nbr[static_cast<std::size_t>(t)];
+      init_edge(arrays, lists, i, t, j, is_awake(g.flags[static_cast<std::size_t>(j)]),
+                g.pos[static_cast<std::size_t>(i)].y, g.pos[static_cast<std::size_t>(j)].y);
+    }
+  });
   for (int round = 0; count[round % 2] > 0 && round < 10000; ++round) {
     const int in = round % 2, out = 1 - in;
     launch(ColourRoundK{g.list.data(), lists, g.slot_of.data(), c.mate.data(), key.data(), c.colour.data(), round,

@@ -1,0 +1,146 @@
+// Host/device primitives of the GPU engine's kernels (stages.hpp,
+// colouring.hpp): integer counters and atomics whose order cannot change a
+// result, read-only loads, and the neighbour lists.
+#pragma once
+#include <cstdint>
+
+#include "lockstep/gpu/soa.hpp"
+
+namespace lockstep::gpu {
+
+// ---------------------------------------------------------------------------
+// Host/device primitives.
+
+using Counter = unsigned long long;
+
+// Counters in the order of StageCounters' fields.
+enum CounterId : int {
+  kCIntegrateVelocity = 0, kCDamping, kCIntegratePosition, kCBroadphaseBodies, kCPairsTested, kCGroundContacts,
+  kCSdfContacts, kCBodyContacts, kCSolverContacts, kCNormalImpulses, kCRestitutionBounces, kCFrictionSteps,
+  kCCorrections, kCSettlingBodies, kCSleepUpdates, kCWakes, kCounterCount
+};
+
+// Adds v to a counter: a warp-aggregated integer atomic on the device (integer
+// sums do not depend on order), a plain add in the host build.
+LS_HD inline void add_counter(Counter* c, unsigned v) {
+#if defined(__CUDA_ARCH__)
+  const unsigned mask = __activemask();
+  const unsigned sum = __reduce_add_sync(mask, v);
+  if (static_cast<int>(threadIdx.x & 31u) == __ffs(static_cast<int>(mask)) - 1 && sum != 0u)
+    atomicAdd(c, static_cast<Counter>(sum));
+#else
+  *c += v;
+#endif
+}
+
+// *c += v and *c = max(*c, v) for int counters, warp-aggregated on the
+// device like add_counter (integer sums and maxima do not depend on order).
+LS_HD inline void add_to(int* c, int v) {
+#if defined(__CUDA_ARCH__)
+  const unsigned mask = __activemask();
+  const int sum = __reduce_add_sync(mask, v);
+  if (static_cast<int>(threadIdx.x & 31u) == __ffs(static_cast<int>(mask)) - 1 && sum != 0) atomicAdd(c, sum);
+#else
+  *c += v;
+#endif
+}
+LS_HD inline void max_to(int* c, int v) {
+#if defined(__CUDA_ARCH__)
+  const unsigned mask = __activemask();
+  const int most = __reduce_max_sync(mask, v);
+  if (static_cast<int>(threadIdx.x & 31u) == __ffs(static_cast<int>(mask)) - 1) atomicMax(c, most);
+#else
+  if (v > *c) *c = v;
+#endif
+}
+
+// *counter += 1, returning the value before (a position to write to); on the
+// device the threads of a warp that claim from the same counter share one
+// atomic. Which thread gets which position depends on the order of the
+// threads: only for outputs whose order does not matter.
+LS_HD inline int claim_one(int* counter) {
+#if defined(__CUDA_ARCH__)
+  const unsigned active = __activemask();
+  const unsigned same = __match_any_sync(active, reinterpret_cast<unsigned long long>(counter));
+  const int lane = static_cast<int>(threadIdx.x & 31u);
+  const int leader = __ffs(static_cast<int>(same)) - 1;
+  int base = 0;
+  if (lane == leader) base = atomicAdd(counter, __popc(same));
+  base = __shfl_sync(same, base, leader);
+  return base + __popc(same & ((1u << lane) - 1u));
+#else
+  return (*counter)++;
+#endif
+}
+
+// Sets *flag to 1; true for the one caller that found it 0.
+LS_HD inline bool claim_flag(int* flag) {
+#if defined(__CUDA_ARCH__)
+  return atomicExch(flag, 1) == 0;
+#else
+  if (*flag != 0) return false;
+  *flag = 1;
+  return true;
+#endif
+}
+
+LS_HD inline int fetch_add(int* counter, int v) {
+#if defined(__CUDA_ARCH__)
+  return atomicAdd(counter, v);
+#else
+  const int old = *counter;
+  *counter += v;
+  return old;
+#endif
+}
+
+LS_HD inline void store_max(int* target, int v) {
+#if defined(__CUDA_ARCH__)
+  atomicMax(target, v);
+#else
+  if (v > *target) *target = v;
+#endif
+}
+
+LS_HD inline void store_min(int* target, int v) {
+#if defined(__CUDA_ARCH__)
+  atomicMin(target, v);
+#else
+  if (v < *target) *target = v;
+#endif
+}
+
+// A load from an array that no thread of the running kernel writes: on the
+// device through the read-only data path (ld.global.nc), which lets the
+// compiler issue it ahead of the kernel's stores (more loads in flight);
+// a plain load in the host build. Only the data path differs, never the value.
+LS_HD inline F4 ro(const F4* p) {
+#if defined(__CUDA_ARCH__)
+  const float4 v = __ldg(reinterpret_cast<const float4*>(p));
+  return F4{v.x, v.y, v.z, v.w};
+#else
+  return *p;
+#endif
+}
+template <class T>
+LS_HD inline T ro(const T* p) {
+#if defined(__CUDA_ARCH__)
+  return __ldg(p);
+#else
+  return *p;
+#endif
+}
+
+// ---------------------------------------------------------------------------
+// Neighbour lists: each active body's list is the block [k stride, k stride +
+// count[k]) of the frame's list array (slot k), ascending by body index (GatherK sorts
+// it).
+struct NeighbourLists {
+  int* nbr = nullptr;
+  int* count = nullptr;
+  int stride = 0;
+  LS_HD int begin(int k) const { return k * stride; }
+  LS_HD int end(int k) const { return k * stride + count[k]; }
+};
+
+}  // namespace lockstep::gpu
