@@ -30,7 +30,7 @@ int accuracy_command(const std::vector<std::string>& argv) {
     if (std::find(engines.begin(), engines.end(), compare::kTruthEngine) == engines.end())
       engines.push_back(compare::kTruthEngine);
     for (const std::string& e : engines) {
-      const auto all = engine_names();
+      const auto all = accepted_engine_names();
       if (std::find(all.begin(), all.end(), e) == all.end())
         throw std::invalid_argument("--engines: unknown engine '" + e + "'");
     }

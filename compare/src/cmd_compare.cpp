@@ -43,7 +43,7 @@ int compare_command(const std::vector<std::string>& argv) {
   scene.frames = static_cast<int>(args.get_int("--frames", scene.frames, 0, 10'000'000));
   const std::vector<std::string> engines = split_engines(args.get("--engines", join(engine_names())));
   for (const std::string& e : engines) {
-    const auto all = engine_names();
+    const auto all = accepted_engine_names();
     if (std::find(all.begin(), all.end(), e) == all.end())
       throw std::invalid_argument("--engines: unknown engine '" + e + "'; available: " + join(all));
   }

@@ -111,7 +111,7 @@ int run_command(const std::vector<std::string>& argv) {
 }
 
 const bool registered = register_command({"run",
-    "run [SCENE] [--engine fixed|float|double|mp|gpu] [--frames N] [--out F|-] [--format csv|jsonl] [--every K] [--raw]",
+    "run [SCENE] [--engine fixed|float|double|mp|gpu|gpu-jacobi] [--frames N] [--out F|-] [--format csv|jsonl] [--every K] [--raw]",
     "run a scene; write its trajectory and per-frame hashes", run_command});
 
 }  // namespace

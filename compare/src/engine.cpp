@@ -49,6 +49,20 @@ std::vector<std::string> engine_names() {
   return names;
 }
 
+std::vector<std::string> engine_variants() {
+#if LOCKSTEP_HAVE_GPU_ENGINE
+  return {"gpu-jacobi"};
+#else
+  return {};
+#endif
+}
+
+std::vector<std::string> accepted_engine_names() {
+  std::vector<std::string> names = engine_names();
+  for (std::string& v : engine_variants()) names.push_back(std::move(v));
+  return names;
+}
+
 std::unique_ptr<EngineRun> make_engine(std::string_view name, const Scene& scene) {
   if (name == "fixed") return std::make_unique<WorldRun<Q16>>(scene);
   if (name == "float") return std::make_unique<WorldRun<float>>(scene);
@@ -56,9 +70,10 @@ std::unique_ptr<EngineRun> make_engine(std::string_view name, const Scene& scene
   if (name == "mp") return std::make_unique<WorldRun<Mp>>(scene);
 #if LOCKSTEP_HAVE_GPU_ENGINE
   if (name == "gpu") return make_gpu_engine(scene);
+  if (name == "gpu-jacobi") return make_gpu_engine(scene, true);
 #endif
   std::string allowed;
-  for (const std::string& n : engine_names()) allowed += (allowed.empty() ? "" : ", ") + n;
+  for (const std::string& n : accepted_engine_names()) allowed += (allowed.empty() ? "" : ", ") + n;
   throw std::invalid_argument("--engine: unknown engine '" + std::string(name) + "'; allowed: " + allowed);
 }
 

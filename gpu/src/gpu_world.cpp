@@ -161,9 +161,11 @@ namespace {
 
 class GpuRun final : public EngineRun {
  public:
-  explicit GpuRun(const Scene& scene) : world_(scene) {}
-  std::string name() const override { return "gpu"; }
-  std::string description() const override { return world_.description(); }
+  GpuRun(const Scene& scene, bool jacobi) : world_(scene, options(jacobi)), jacobi_(jacobi) {}
+  std::string name() const override { return jacobi_ ? "gpu-jacobi" : "gpu"; }
+  std::string description() const override {
+    return jacobi_ ? world_.description() + ", Jacobi pair solver" : world_.description();
+  }
   void step() override { world_.step(); }
   int frame() const override { return world_.frame(); }
   int body_count() const override { return world_.body_count(); }
@@ -173,11 +175,19 @@ class GpuRun final : public EngineRun {
   StageCounters counters() const override { return world_.counters(); }
 
  private:
+  static gpu::GpuOptions options(bool jacobi) {
+    gpu::GpuOptions o;
+    if (jacobi) o.pair_solver = gpu::GpuOptions::PairSolver::kJacobi;
+    return o;
+  }
   gpu::GpuWorld world_;
+  bool jacobi_;
 };
 
 }  // namespace
 
-std::unique_ptr<EngineRun> make_gpu_engine(const Scene& scene) { return std::make_unique<GpuRun>(scene); }
+std::unique_ptr<EngineRun> make_gpu_engine(const Scene& scene, bool jacobi) {
+  return std::make_unique<GpuRun>(scene, jacobi);
+}
 
 }  // namespace lockstep

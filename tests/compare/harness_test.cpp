@@ -11,7 +11,9 @@
 #include <numeric>
 #include <random>
 #include <sstream>
+#include <stdexcept>
 
+#include "lockstep/builtin_scenes.hpp"
 #include "lockstep/compare/harness.hpp"
 #include "lockstep/compare/report.hpp"
 #include "scripted_engine.hpp"
@@ -321,6 +323,28 @@ TEST(HarnessTest, ReportFolderHoldsDataAndPictures) {
   EXPECT_NE(table.find("DISAGREE"), std::string::npos);
   EXPECT_NE(table.find("other vs base: position, body 1, frame 23"), std::string::npos) << table;
   std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+
+namespace {
+
+// make_engine accepts the listed engines and the variants; a variant is not
+// listed (runs over engine_names() do not include it); an unknown name is an
+// error that lists every accepted name.
+TEST(EngineNames, VariantsAreAcceptedOnRequestOnly) {
+  const std::vector<std::string> listed = engine_names(), accepted = accepted_engine_names();
+  const bool gpu = std::find(listed.begin(), listed.end(), "gpu") != listed.end();
+  EXPECT_EQ(std::find(listed.begin(), listed.end(), "gpu-jacobi"), listed.end());
+  EXPECT_EQ(std::find(accepted.begin(), accepted.end(), "gpu-jacobi") != accepted.end(), gpu);
+  const Scene scene = *builtin_scene("stack5");
+  for (const std::string& name : accepted) EXPECT_EQ(make_engine(name, scene)->name(), name);
+  try {
+    make_engine("gpu-gauss", scene);
+    FAIL() << "no error for an unknown engine";
+  } catch (const std::invalid_argument& e) {
+    for (const std::string& name : accepted) EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << name;
+  }
 }
 
 }  // namespace

@@ -143,11 +143,16 @@ TEST(GpuHost, RunToRunDeterministic) {
 }
 
 // The two solvers are different schedules: on a pile they part from the
-// first frame with body-body contacts (a check that the option is obeyed).
+// first frame with body-body contacts (a check that the option is obeyed),
+// and make_gpu_engine(scene, true) ("gpu-jacobi") is the Jacobi one.
 TEST(GpuHost, PairSolverOptionChangesTheSchedule) {
   const Scene s = scene("pyramid");
   GpuWorld a(s, host_options(kSolvers[0])), b(s, host_options(kSolvers[1]));
-  EXPECT_NE(gpu_test::hashes(a, 5), gpu_test::hashes(b, 5));
+  const std::vector<std::uint64_t> coloured = gpu_test::hashes(a, 5), jacobi = gpu_test::hashes(b, 5);
+  EXPECT_NE(coloured, jacobi);
+  auto run = make_gpu_engine(s, true);
+  EXPECT_EQ(run->name(), "gpu-jacobi");
+  EXPECT_EQ(gpu_test::hashes(*run, 5), jacobi);
 }
 
 // The solver's threads in an order of their work (GpuOptions::

@@ -54,6 +54,12 @@ class EngineRun {
 // Engine names in a fixed order; "gpu" is present when the GPU engine is built
 // (its host build when no CUDA device is found).
 std::vector<std::string> engine_names();
+// Variants that make_engine also accepts, named on request only (not in
+// engine_names()): "gpu-jacobi" (when "gpu" is present), the GPU engine with
+// its Jacobi pair solver (docs/GPU.md "Contact resolution").
+std::vector<std::string> engine_variants();
+// engine_names() then engine_variants(): every name make_engine accepts.
+std::vector<std::string> accepted_engine_names();
 // Throws std::invalid_argument naming the allowed engines.
 std::unique_ptr<EngineRun> make_engine(std::string_view name, const Scene& scene);
 

@@ -16,8 +16,10 @@
 
 namespace lockstep {
 
-// The "gpu" engine behind the EngineRun interface (name() is "gpu").
-std::unique_ptr<EngineRun> make_gpu_engine(const Scene& scene);
+// The "gpu" engine behind the EngineRun interface (name() is "gpu"); with
+// `jacobi`, the same engine with the Jacobi pair solver
+// (GpuOptions::PairSolver::kJacobi, name() "gpu-jacobi").
+std::unique_ptr<EngineRun> make_gpu_engine(const Scene& scene, bool jacobi = false);
 
 namespace gpu {
 
