@@ -9,7 +9,10 @@
 # stage breakdown, for each of the comma-separated binary folders in BIN
 # (each holding a gpu_bench): versions compared in one call.
 # CPU_SIZES (default 10000,100000): the CPU engines' sizes in the full run
-# ("" for none). NCU=0: no Nsight Compute pass; NCU=detail: also the
+# ("" for none). SOLVERS (default "coloured jacobi"): the pair solvers the
+# full run measures (gpu_bench --solver), the CPU engines with the first.
+# ACCURACY=1: also `lockstep accuracy` with the gpu and gpu-jacobi columns
+# through CUDA (docs/accuracy/h100). NCU=0: no Nsight Compute pass; NCU=detail: also the
 # speed-of-light, occupancy, memory, scheduler, instruction, warp-state and
 # source-counter sections of the first NCU_COUNT (4) of the gather, contact,
 # solver and correction kernels (the last folder's gpu_bench).
@@ -58,6 +61,18 @@ echo "== tests (label gpu, then the host build's)"
 "$BIN/gpu_device_tests" > "$OUT/device_tests.txt" 2>&1; echo "device tests rc=$?"
 grep -E "^\[  (PASSED|FAILED|  OK|SKIPPED)|Failure|Which is|actual" "$OUT/device_tests.txt" | head -40
 "$BIN/gpu_tests" > "$OUT/host_tests.txt" 2>&1; echo "host-build tests rc=$?"; tail -1 "$OUT/host_tests.txt"
-echo "== benchmark"
-"$BIN/gpu_bench" --sizes "$SIZES" --cpu-sizes "${CPU_SIZES-10000,100000}" --json "$OUT/bench.json" 2>&1 | tee "$OUT/bench.txt"
+cpu=${CPU_SIZES-10000,100000}
+for solver in ${SOLVERS:-coloured jacobi}; do
+  echo "== benchmark, $solver pair solver"
+  "$BIN/gpu_bench" --solver "$solver" --sizes "$SIZES" --cpu-sizes "$cpu" --json "$OUT/bench_$solver.json" 2>&1 \
+    | tee "$OUT/bench_$solver.txt"
+  cpu=""
+done
 ncu_pass "$BIN"
+if [ "${ACCURACY:-0}" = 1 ]; then
+  echo "== accuracy versus time"
+  "$BIN/lockstep" accuracy --engines fixed,float,double,mp,gpu,gpu-jacobi --out "$OUT/accuracy" --quiet \
+    --machine "$(nvidia-smi --query-gpu=name --format=csv,noheader) (gpu columns through CUDA), host CPU of the device machine for the CPU engines" \
+    --date "$(date -u +%F)" > "$OUT/accuracy.log" 2>&1
+  echo "accuracy rc=$?"
+fi

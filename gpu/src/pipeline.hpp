@@ -170,56 +170,68 @@ class Pipeline final : public PipelineBase {
     mate_.resize(entries);
     edge_key_.resize(entries);
     edge_word_.resize(entries);
+    coloured_in_.resize(entries);
     edges_.resize(entries);
+    grouped_.resize(entries);
     for (auto& p : pending_) p.resize(entries);
-    colour_scal_.resize(3);  // [0]: edges coloured, [1], [2]: pending counts (ping-pong)
-    be_.fill_int(colour_scal_.data(), 0, 3);
+    colour_scal_.resize(6);  // [0]: edges coloured, [1..3]: pending counts (rotating), [4]: colours, [5]: rounds used
+    be_.fill_int(colour_scal_.data(), 0, 6);
     e.slot_of = slot_of_[par].data();
     e.inv_cell = &awake_grid_.gp.data()->inv_cell;
     e.mate = mate_.data();
     e.key = edge_key_.data();
     e.word = edge_word_.data();
+    e.coloured_in = coloured_in_.data();
     e.pending = pending_[0].data();
     e.pending_count = colour_scal_.data() + 1;
     return e;
   }
 
   // The colouring of the edges that ContactsK set up (colouring.hpp): rounds
-  // in batches (the first with as many rounds as last frame had colours,
-  // then 4), each round over the edges still pending, until none is; colour
-  // r is round r, and its edges are edges_[colour_offset_[r],
-  // colour_offset_[r + 1]). One synchronisation per batch. Sets colours_ and
-  // colour_offset_; returns the colour of each list entry.
+  // in batches (the first as long as last frame's colouring, then 4), each
+  // round over the edges still pending, until none is (one synchronisation
+  // per batch); then the edges grouped by colour (one more: the counts):
+  // colour c's edges are grouped_[colour_offset_[c], colour_offset_[c + 1]).
+  // Sets colours_ and colour_offset_; returns the colour of each list entry.
   const int* colour_edges(int n_active, const int* active, const NeighbourLists& nl, int par) {
-    const int previous = colours_;
-    colours_ = 0;
+    const int previous = rounds_;
+    colours_ = rounds_ = 0;
     colour_offset_.assign(1, 0);
     if (!coloured_) {  // empty lists (no body-body contacts): nothing to colour
       edge_word_.resize(1);
       return edge_word_.data();
     }
     int* total = colour_scal_.data();
-    int* count[2] = {colour_scal_.data() + 1, colour_scal_.data() + 2};
+    int* count[3] = {colour_scal_.data() + 1, colour_scal_.data() + 2, colour_scal_.data() + 3};
+    int found[6] = {};  // edges coloured, pending counts, colours, rounds used
     int round = 0;
     for (int batch = std::max(1, previous);; batch = 4) {
-      round_end_.resize(static_cast<std::size_t>(batch) + 1);
-      for (int r = 0; r < batch; ++r, ++round) {
-        const int in = round % 2, out = 1 - in;
+      for (int r = 0; r < batch; ++r, ++round)
         be_.for_n(n_active, ColourRoundK{active, nl, slot_of_[par].data(), mate_.data(), edge_key_.data(),
-                                         edge_word_.data(), round, pending_[in].data(), count[in],
-                                         pending_[out].data(), count[out], edges_.data(), total, n_active});
-        be_.for_n(1, RoundEndK{total, round_end_.data() + r, count[in]});
-      }
-      std::vector<int> ends(static_cast<std::size_t>(batch) + 1);
-      be_.download(ends.data(), round_end_.data(), static_cast<std::size_t>(batch));
-      be_.download(ends.data() + batch, count[round % 2], 1);  // pending after the batch
+                                         edge_word_.data(), coloured_in_.data(), round, pending_[round % 2].data(),
+                                         count[round % 3], pending_[(round + 1) % 2].data(), count[(round + 1) % 3],
+                                         edges_.data(), total, colour_scal_.data() + 4, count[(round + 2) % 3],
+                                         colour_scal_.data() + 5, n_active});
+      be_.download(found, colour_scal_.data(), 6);
       be_.sync();
-      for (int r = 0; r < batch; ++r)  // every round with pending edges colours at least one
-        if (ends[static_cast<std::size_t>(r)] > colour_offset_.back()) colour_offset_.push_back(ends[static_cast<std::size_t>(r)]);
-      if (ends[static_cast<std::size_t>(batch)] == 0) break;
+      if (found[1 + round % 3] == 0) break;  // nothing pending for the next round
     }
-    colours_ = static_cast<int>(colour_offset_.size()) - 1;
-    return edge_word_.data();
+    colours_ = found[4];
+    rounds_ = found[5];
+    const int* word = edge_word_.data();
+    if (colours_ == 0) return word;
+    const auto nc = static_cast<std::size_t>(colours_);
+    colour_count_.resize(nc);
+    be_.fill_zero(colour_count_.data(), nc);
+    be_.for_n(found[0], EdgeCountK{edges_.data(), word, colour_count_.data()});
+    std::vector<int> counts(nc);
+    be_.download(counts.data(), colour_count_.data(), nc);
+    be_.sync();
+    colour_offset_.resize(nc + 1);
+    for (std::size_t c = 0; c < nc; ++c) colour_offset_[c + 1] = colour_offset_[c] + counts[c];
+    be_.upload(colour_count_.data(), colour_offset_.data(), nc);  // each colour's next position
+    be_.for_n(found[0], EdgeGroupK{edges_.data(), word, colour_count_.data(), grouped_.data()});
+    return word;
   }
 
   // Host copy of a device int (the backend synchronises).
@@ -261,9 +273,10 @@ class Pipeline final : public PipelineBase {
   Grid awake_grid_, frozen_grid_;
   Buf<Counter> ctr_;
   // The coloured solver's edges (colouring.hpp): per list entry its mate,
-  // key and colour word; the pending lists of the colouring rounds; the edges
-  // (owner entries) in colour order; where each round's edges end.
-  Buf<int> mate_, edge_word_, pending_[2], edges_, round_end_, colour_scal_;
+  // key, colour and colouring round; the pending lists of the colouring
+  // rounds; the edges (owner entries) in round order and grouped by colour;
+  // the count per colour.
+  Buf<int> mate_, edge_word_, coloured_in_, pending_[2], edges_, grouped_, colour_count_, colour_scal_;
   Buf<unsigned long long> edge_key_;
   std::vector<int> colour_offset_;   // host: colour c's edges are edges_[offset[c], offset[c + 1])
   Buf<int> immovable_;               // per slot: contacts with immovable things (ContactsK)
@@ -272,6 +285,7 @@ class Pipeline final : public PipelineBase {
   bool frozen_dirty_ = true;
   bool coloured_ = false;  // this frame's body-body contacts are coloured
   int colours_ = 0;        // the coloured solver's colours this frame
+  int rounds_ = 0;         // and its colouring rounds
 };
 
 template <class B>
@@ -416,7 +430,7 @@ void Pipeline<B>::step() {
                                    vel_[1].data(), ang_[1].data(), ctr_.data()});
         for (int c = 0; c < colours_; ++c)
           be_.for_n(colour_offset_[c + 1] - colour_offset_[c],
-                    SolveEdgeK{d, edges_.data() + colour_offset_[c], mate_.data(), vel_[1].data(), ang_[1].data(),
+                    SolveEdgeK{d, grouped_.data() + colour_offset_[c], mate_.data(), vel_[1].data(), ang_[1].data(),
                                ctr_.data()});
       }
     } else {
