@@ -17,7 +17,6 @@ namespace lockstep::gpu {
 // SolveK), kUncoloured until a colouring round colours it, else the colour
 // (0, 1, ...).
 inline constexpr int kNoEdge = -2, kUncoloured = -1;
-inline constexpr int kNever = 0x7fffffff;  // coloured_in of an edge not coloured yet
 
 // The order of the edges: lowest first, by the band of their height (the
 // bodies' mean y in bands of H, the awake grid's largest AABB half extent:
@@ -71,8 +70,7 @@ struct EdgeArrays {
   const float* inv_cell = nullptr;  // the awake grid's 1 / (2 H), H its largest AABB half extent
   int* mate = nullptr;           // null: no colouring (the Jacobi solver)
   unsigned long long* key = nullptr;
-  int* word = nullptr;         // colour, kUncoloured, or kNoEdge
-  int* coloured_in = nullptr;  // the round that coloured the edge, kNever before
+  int* word = nullptr;  // colour, kUncoloured, or kNoEdge
   int* pending = nullptr;
   int* pending_count = nullptr;
 };
@@ -100,29 +98,26 @@ LS_HD inline void init_edge(const EdgeArrays& e, const NeighbourLists& lists, in
   const float inv_band = ro(e.inv_cell) * Num<float>::from_int(2);  // bands of H
   e.key[t] = i < j ? edge_key(i, j, yi, yj, inv_band) : edge_key(j, i, yj, yi, inv_band);
   e.word[t] = m < 0 ? kNoEdge : kUncoloured;
-  e.coloured_in[t] = kNever;
   if (m >= 0 && i < j) e.pending[claim_one(e.pending_count)] = t;
 }
 
 // Round r of a parallel colouring in the edges' order (Jones-Plassmann): a
 // pending (uncoloured) edge that goes before every edge it shares a body with
-// that was uncoloured at the start of the round is coloured in round r; the
-// others go to the next round's pending list. When an edge is coloured, every
-// edge it shares a body with that goes before it is coloured already and
-// none after it is, so it takes the smallest colour that none of them has
-// and that is above the colours of those in a lower height band: of two edges
-// sharing a body, the one in the lower band has the lower colour (a stack's
-// contacts get increasing colours, bottom-up), and within a band colours are
-// reused, so a dense pile needs about as many colours as it has bands, not
-// as its longest chain of edges. The colours do not depend on the order of
-// the threads: an edge coloured in this round (coloured_in = r, or kNever
-// before the write) reads as uncoloured either way. The coloured edge is
-// written on both copies and appended to `edges` (round order; the positions
-// of the lists, from integer atomics, depend on the threads' order, which
-// decides only which thread later solves an edge). The threads step through
-// the pending list `threads` apart (its length is on the device). The
-// pending counts rotate over three: round r reads count r % 3, writes
-// (r + 1) % 3 and clears (r + 2) % 3 for the next round to write.
+// that was uncoloured at the start of the round takes colour r; the others
+// go to the next round's pending list. Two edges that share a body are never
+// both first, so edges of one colour share no body; of two edges that share
+// a body the one first in the order has the lower colour (a stack gets one
+// colour per contact, bottom-up); and the colours do not depend on the order
+// of the threads: a word read as kUncoloured or r means "uncoloured at the
+// start of the round" either way. A coloured edge is written on both copies
+// and appended to colour r's part of `edges`, which starts where round r-1's
+// ended; the positions within it (integer atomics) depend on the threads'
+// order, which decides only which thread solves an edge. The threads step
+// through the pending list `threads` apart (its length is on the device).
+// Counters rotate over three rounds: round r reads pending count r % 3 and
+// the edges placed in round r - 1, writes count and placed (r + 1) % 3 and
+// r % 3, and its thread 0 clears those of round r + 1 and r + 2 that no
+// thread of round r touches, and records where round r - 1's edges ended.
 struct ColourRoundK {
   const int* list;
   NeighbourLists lists;
@@ -130,100 +125,47 @@ struct ColourRoundK {
   const int* mate;
   const unsigned long long* key;
   int* word;
-  int* coloured_in;
   int round;
-  const int* pending;
-  const int* pending_count;
-  int* next;
-  int* next_count;
+  int* pending_count;  // three, rotating
+  int* placed;         // three, rotating: edges coloured per round
+  int* round_end;      // per round: where its edges end in `edges`
+  const int* pending;  // this round's
+  int* next;           // the next round's
   int* edges;
-  int* total;
-  int* colours;       // max_to: the number of colours used
-  int* clear_count;   // the pending count of the round after next: set to 0 here
-  int* rounds_used;   // set to round + 1 when this round has pending edges
   int threads;
   LS_HD void operator()(int k) const {
-    const int n = *pending_count;
-    if (k == 0) {  // the round's bookkeeping, by one thread (no other thread of the round reads these)
-      *clear_count = 0;
-      if (n > 0) *rounds_used = round + 1;
+    const int n = pending_count[round % 3];
+    const int start = round == 0 ? 0 : (round >= 2 ? round_end[round - 2] : 0) + placed[(round + 2) % 3];
+    if (k == 0) {
+      if (round > 0) round_end[round - 1] = start;
+      pending_count[(round + 2) % 3] = 0;
+      placed[(round + 1) % 3] = 0;
     }
     for (int e = k; e < n; e += threads) {
       const int t = pending[e];
       const int slot = t / lists.stride;
       const int i = ro(list + slot), j = ro(lists.nbr + t), m = ro(mate + t);
       const EdgeKey self{ro(key + t), i, j};
-      const unsigned band = static_cast<unsigned>(self.key >> 32);
-      const int sj = ro(slot_of + j);
-      // Whether an edge sharing a body goes first, and the lowest colour
-      // allowed (above those of the edges in lower bands).
       bool first = true;
-      int floor_colour = 0;
-      auto visit = [&](int s, int body, int skip, auto&& coloured) {
+      auto visit = [&](int s, int body, int skip) {
         for (int u = lists.begin(s); u < lists.end(s) && first; ++u) {
           if (u == skip) continue;
           const int w = load_word(word + u);
-          if (w == kNoEdge) continue;
-          const unsigned long long ku = ro(key + u);
-          if (load_word(coloured_in + u) < round) {
-            coloured(w, static_cast<unsigned>(ku >> 32));
-            continue;
-          }
+          if (w != kUncoloured && w != round) continue;  // no edge, or coloured before this round
           const int o = ro(lists.nbr + u);
-          if (EdgeKey{ku, body < o ? body : o, body < o ? o : body}.before(self)) first = false;
+          if (EdgeKey{ro(key + u), body < o ? body : o, body < o ? o : body}.before(self)) first = false;
         }
       };
-      auto lower_bands = [&](int w, unsigned b) {
-        if (b < band && w + 1 > floor_colour) floor_colour = w + 1;
-      };
-      visit(slot, i, t, lower_bands);
-      visit(sj, j, m, lower_bands);
-      if (!first) {
-        next[claim_one(next_count)] = t;
-        continue;
+      visit(slot, i, t);
+      visit(ro(slot_of + j), j, m);
+      if (first) {
+        store_word(word + t, round);
+        store_word(word + m, round);
+        edges[start + claim_one(placed + round % 3)] = t;
+      } else {
+        next[claim_one(pending_count + (round + 1) % 3)] = t;
       }
-      int chosen = -1;
-      for (int base = floor_colour; chosen < 0; base += 64) {  // the smallest free colour >= floor_colour
-        unsigned long long used = 0;
-        auto mark = [&](int w, unsigned) {
-          if (w >= base && w < base + 64) used |= 1ull << (w - base);
-        };
-        visit(slot, i, t, mark);
-        visit(sj, j, m, mark);
-        if (~used != 0ull) {
-          int c = 0;
-          while ((used >> c) & 1ull) ++c;
-          chosen = base + c;
-        }
-      }
-      store_word(word + t, chosen);
-      store_word(word + m, chosen);
-      store_word(coloured_in + t, round);
-      store_word(coloured_in + m, round);
-      edges[claim_one(total)] = t;
-      max_to(colours, chosen + 1);
     }
-  }
-};
-
-// The coloured edges grouped by colour: EdgeCountK counts them per colour,
-// the host turns the counts into offsets, EdgeGroupK writes each edge at its
-// colour's next position (the order within a colour decides only which
-// thread solves an edge: a colour's edges share no body).
-struct EdgeCountK {
-  const int* edges;
-  const int* word;
-  int* count;  // per colour
-  LS_HD void operator()(int e) const { claim_one(count + ro(word + ro(edges + e))); }
-};
-struct EdgeGroupK {
-  const int* edges;
-  const int* word;
-  int* next;  // per colour: its offset, advanced as edges are written
-  int* grouped;
-  LS_HD void operator()(int e) const {
-    const int t = ro(edges + e);
-    grouped[claim_one(next + ro(word + t))] = t;
   }
 };
 

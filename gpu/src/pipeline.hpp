@@ -170,68 +170,59 @@ class Pipeline final : public PipelineBase {
     mate_.resize(entries);
     edge_key_.resize(entries);
     edge_word_.resize(entries);
-    coloured_in_.resize(entries);
     edges_.resize(entries);
-    grouped_.resize(entries);
     for (auto& p : pending_) p.resize(entries);
-    colour_scal_.resize(6);  // [0]: edges coloured, [1..3]: pending counts (rotating), [4]: colours, [5]: rounds used
+    colour_scal_.resize(6);  // [0..2]: pending counts, [3..5]: edges placed (rotating over rounds)
     be_.fill_int(colour_scal_.data(), 0, 6);
     e.slot_of = slot_of_[par].data();
     e.inv_cell = &awake_grid_.gp.data()->inv_cell;
     e.mate = mate_.data();
     e.key = edge_key_.data();
     e.word = edge_word_.data();
-    e.coloured_in = coloured_in_.data();
     e.pending = pending_[0].data();
-    e.pending_count = colour_scal_.data() + 1;
+    e.pending_count = colour_scal_.data();
     return e;
   }
 
   // The colouring of the edges that ContactsK set up (colouring.hpp): rounds
   // in batches (the first as long as last frame's colouring, then 4), each
   // round over the edges still pending, until none is (one synchronisation
-  // per batch); then the edges grouped by colour (one more: the counts):
-  // colour c's edges are grouped_[colour_offset_[c], colour_offset_[c + 1]).
-  // Sets colours_ and colour_offset_; returns the colour of each list entry.
+  // per batch); colour r is round r, and its edges are
+  // edges_[colour_offset_[r], colour_offset_[r + 1]). Sets colours_ and
+  // colour_offset_; returns the colour of each list entry.
   const int* colour_edges(int n_active, const int* active, const NeighbourLists& nl, int par) {
-    const int previous = rounds_;
-    colours_ = rounds_ = 0;
+    const int previous = colours_;
+    colours_ = 0;
     colour_offset_.assign(1, 0);
     if (!coloured_) {  // empty lists (no body-body contacts): nothing to colour
       edge_word_.resize(1);
       return edge_word_.data();
     }
-    int* total = colour_scal_.data();
-    int* count[3] = {colour_scal_.data() + 1, colour_scal_.data() + 2, colour_scal_.data() + 3};
-    int found[6] = {};  // edges coloured, pending counts, colours, rounds used
+    int* pending_count = colour_scal_.data();
+    int* placed = colour_scal_.data() + 3;
     int round = 0;
     for (int batch = std::max(1, previous);; batch = 4) {
+      round_end_.resize(static_cast<std::size_t>(round + batch));  // after a synchronisation: no kernel uses it
       for (int r = 0; r < batch; ++r, ++round)
         be_.for_n(n_active, ColourRoundK{active, nl, slot_of_[par].data(), mate_.data(), edge_key_.data(),
-                                         edge_word_.data(), coloured_in_.data(), round, pending_[round % 2].data(),
-                                         count[round % 3], pending_[(round + 1) % 2].data(), count[(round + 1) % 3],
-                                         edges_.data(), total, colour_scal_.data() + 4, count[(round + 2) % 3],
-                                         colour_scal_.data() + 5, n_active});
-      be_.download(found, colour_scal_.data(), 6);
+                                         edge_word_.data(), round, pending_count, placed, round_end_.data(),
+                                         pending_[round % 2].data(), pending_[(round + 1) % 2].data(),
+                                         edges_.data(), n_active});
+      // Where every round's edges end: rounds 0 .. round-2 recorded them;
+      // the last ends where it started plus what it placed.
+      std::vector<int> ends(static_cast<std::size_t>(round));
+      int counts[6] = {};
+      if (round >= 2) be_.download(ends.data(), round_end_.data(), static_cast<std::size_t>(round - 1));
+      be_.download(counts, colour_scal_.data(), 6);
       be_.sync();
-      if (found[1 + round % 3] == 0) break;  // nothing pending for the next round
+      const int last = round - 1;
+      ends[static_cast<std::size_t>(last)] = (last >= 1 ? ends[static_cast<std::size_t>(last - 1)] : 0) + counts[3 + last % 3];
+      for (int r = static_cast<int>(colour_offset_.size()) - 1; r < round; ++r)  // rounds that coloured an edge
+        if (ends[static_cast<std::size_t>(r)] > colour_offset_.back()) colour_offset_.push_back(ends[static_cast<std::size_t>(r)]);
+      if (counts[round % 3] == 0) break;  // nothing pending for the next round
     }
-    colours_ = found[4];
-    rounds_ = found[5];
-    const int* word = edge_word_.data();
-    if (colours_ == 0) return word;
-    const auto nc = static_cast<std::size_t>(colours_);
-    colour_count_.resize(nc);
-    be_.fill_zero(colour_count_.data(), nc);
-    be_.for_n(found[0], EdgeCountK{edges_.data(), word, colour_count_.data()});
-    std::vector<int> counts(nc);
-    be_.download(counts.data(), colour_count_.data(), nc);
-    be_.sync();
-    colour_offset_.resize(nc + 1);
-    for (std::size_t c = 0; c < nc; ++c) colour_offset_[c + 1] = colour_offset_[c] + counts[c];
-    be_.upload(colour_count_.data(), colour_offset_.data(), nc);  // each colour's next position
-    be_.for_n(found[0], EdgeGroupK{edges_.data(), word, colour_count_.data(), grouped_.data()});
-    return word;
+    colours_ = static_cast<int>(colour_offset_.size()) - 1;
+    return edge_word_.data();
   }
 
   // Host copy of a device int (the backend synchronises).
@@ -273,10 +264,9 @@ class Pipeline final : public PipelineBase {
   Grid awake_grid_, frozen_grid_;
   Buf<Counter> ctr_;
   // The coloured solver's edges (colouring.hpp): per list entry its mate,
-  // key, colour and colouring round; the pending lists of the colouring
-  // rounds; the edges (owner entries) in round order and grouped by colour;
-  // the count per colour.
-  Buf<int> mate_, edge_word_, coloured_in_, pending_[2], edges_, grouped_, colour_count_, colour_scal_;
+  // key and colour; the pending lists of the colouring rounds; the edges
+  // (owner entries) by colour; where each round's edges end; the counters.
+  Buf<int> mate_, edge_word_, pending_[2], edges_, round_end_, colour_scal_;
   Buf<unsigned long long> edge_key_;
   std::vector<int> colour_offset_;   // host: colour c's edges are edges_[offset[c], offset[c + 1])
   Buf<int> immovable_;               // per slot: contacts with immovable things (ContactsK)
@@ -284,8 +274,7 @@ class Pipeline final : public PipelineBase {
                    // [3]: edges left uncoloured, [4]: colours used
   bool frozen_dirty_ = true;
   bool coloured_ = false;  // this frame's body-body contacts are coloured
-  int colours_ = 0;        // the coloured solver's colours this frame
-  int rounds_ = 0;         // and its colouring rounds
+  int colours_ = 0;        // the coloured solver's colours (= colouring rounds) this frame
 };
 
 template <class B>
@@ -430,7 +419,7 @@ void Pipeline<B>::step() {
                                    vel_[1].data(), ang_[1].data(), ctr_.data()});
         for (int c = 0; c < colours_; ++c)
           be_.for_n(colour_offset_[c + 1] - colour_offset_[c],
-                    SolveEdgeK{d, grouped_.data() + colour_offset_[c], mate_.data(), vel_[1].data(), ang_[1].data(),
+                    SolveEdgeK{d, edges_.data() + colour_offset_[c], mate_.data(), vel_[1].data(), ang_[1].data(),
                                ctr_.data()});
       }
     } else {
