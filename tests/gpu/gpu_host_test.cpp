@@ -15,21 +15,35 @@ using gpu::GpuWorld;
 using gpu_test::host_options;
 using gpu_test::scene;
 
+// Runs the GPU engine (host build) and World<float> side by side on a scene:
+// the same state hash after every frame. Returns both engines' counters and
+// the GPU engine's awake count at the end.
+struct SideBySide {
+  StageCounters gpu, world;
+  int gpu_awake = 0;
+};
+SideBySide expect_world_float_bits(const Scene& s) {
+  GpuWorld g(s, host_options());
+  World<float> w(s);
+  for (int f = 1; f <= s.frames; ++f) {
+    g.step();
+    w.step();
+    if (g.state_hash() != w.state_hash()) {
+      ADD_FAILURE() << s.name << ": state hash differs from World<float>'s at frame " << f;
+      break;
+    }
+  }
+  return {g.counters(), w.counters(), g.awake_count()};
+}
+
 // With no body touching another, the GPU engine's schedule changes nothing:
 // every frame of these single-body scenes (ground contacts, warm start,
 // speculative contacts, settling, sleep) is World<float>'s, bit for bit.
 TEST(GpuHost, SingleBodyScenesMatchWorldFloatBitForBit) {
   for (const char* name : {"drop", "bounce", "slide", "tip_edge", "tip_corner"}) {
     SCOPED_TRACE(name);
-    const Scene s = scene(name);
-    GpuWorld g(s, host_options());
-    World<float> w(s);
-    for (int f = 1; f <= s.frames; ++f) {
-      g.step();
-      w.step();
-      ASSERT_EQ(g.state_hash(), w.state_hash()) << "frame " << f;
-    }
-    const StageCounters a = g.counters(), b = w.counters();
+    const SideBySide r = expect_world_float_bits(scene(name));
+    const StageCounters &a = r.gpu, &b = r.world;
     EXPECT_EQ(a.ground_contacts, b.ground_contacts);
     EXPECT_EQ(a.solver_contacts, b.solver_contacts);
     EXPECT_EQ(a.normal_impulses, b.normal_impulses);
@@ -77,16 +91,10 @@ TEST(GpuHost, StacksMatchWorldFloatBitForBit) {
   heavy_on_light.bodies = {light, heavy};
   for (const Scene& s : {tower(20, 0.0), tower(10, 0.1), scene("stack5"), heavy_on_light}) {
     SCOPED_TRACE(s.name);
-    GpuWorld g(s, host_options());
-    World<float> w(s);
-    for (int f = 1; f <= s.frames; ++f) {
-      g.step();
-      w.step();
-      ASSERT_EQ(g.state_hash(), w.state_hash()) << "frame " << f;
-    }
-    EXPECT_EQ(g.counters().normal_impulses, w.counters().normal_impulses);
-    EXPECT_EQ(g.counters().settling_bodies, w.counters().settling_bodies);
-    EXPECT_EQ(g.awake_count(), 0);
+    const SideBySide r = expect_world_float_bits(s);
+    EXPECT_EQ(r.gpu.normal_impulses, r.world.normal_impulses);
+    EXPECT_EQ(r.gpu.settling_bodies, r.world.settling_bodies);
+    EXPECT_EQ(r.gpu_awake, 0);
   }
 }
 
