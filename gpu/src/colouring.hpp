@@ -78,27 +78,20 @@ struct EdgeArrays {
 // Entry t of body i's list, body j (at heights yi, yj): an edge when j is
 // awake (every awake body is active) and i is in j's list, whose entry is
 // mate[t] (its copy of the contact state); key[t] is the edge's place in the
-// order, word[t] kUncoloured (kNoEdge for an entry that is no edge), and the
-// owner's entry (the lower body's) goes to the pending list of round 0.
+// order, word[t] kUncoloured (kNoEdge, and no key, for an entry that is no
+// edge), and the owner's entry (the lower body's) goes to the pending list of
+// round 0.
 // Needs every list sorted (GatherK) and slot_of written.
 LS_HD inline void init_edge(const EdgeArrays& e, const NeighbourLists& lists, int i, int t, int j, bool j_awake,
                             float yi, float yj) {
-  int m = -1;
-  if (j_awake) {
-    const int s = ro(e.slot_of + j);
-    int lo = lists.begin(s), hi = lists.end(s);
-    while (lo < hi) {  // binary search in j's ascending list
-      const int mid = lo + (hi - lo) / 2;
-      if (ro(lists.nbr + mid) < i) lo = mid + 1;
-      else hi = mid;
-    }
-    if (lo < lists.end(s) && ro(lists.nbr + lo) == i) m = lo;  // else not mutual: no edge (kept safe)
-  }
+  // -1 when j's list lacks i (not mutual: no edge; kept safe, the pair test is symmetric)
+  const int m = j_awake ? lists.find(ro(e.slot_of + j), i) : -1;
   e.mate[t] = m;
+  e.word[t] = m < 0 ? kNoEdge : kUncoloured;
+  if (m < 0) return;  // a non-edge's key is never read
   const float inv_band = ro(e.inv_cell) * Num<float>::from_int(2);  // bands of H
   e.key[t] = i < j ? edge_key(i, j, yi, yj, inv_band) : edge_key(j, i, yj, yi, inv_band);
-  e.word[t] = m < 0 ? kNoEdge : kUncoloured;
-  if (m >= 0 && i < j) e.pending[claim_one(e.pending_count)] = t;
+  if (i < j) e.pending[claim_one(e.pending_count)] = t;
 }
 
 // Round r of a parallel colouring in the edges' order (Jones-Plassmann): a

@@ -33,8 +33,8 @@ LS_HD inline void add_counter(Counter* c, unsigned v) {
 #endif
 }
 
-// *c += v and *c = max(*c, v) for int counters, warp-aggregated on the
-// device like add_counter (integer sums and maxima do not depend on order).
+// *c += v for an int counter, warp-aggregated on the device like add_counter
+// (integer sums do not depend on order).
 LS_HD inline void add_to(int* c, int v) {
 #if defined(__CUDA_ARCH__)
   const unsigned mask = __activemask();
@@ -42,15 +42,6 @@ LS_HD inline void add_to(int* c, int v) {
   if (static_cast<int>(threadIdx.x & 31u) == __ffs(static_cast<int>(mask)) - 1 && sum != 0) atomicAdd(c, sum);
 #else
   *c += v;
-#endif
-}
-LS_HD inline void max_to(int* c, int v) {
-#if defined(__CUDA_ARCH__)
-  const unsigned mask = __activemask();
-  const int most = __reduce_max_sync(mask, v);
-  if (static_cast<int>(threadIdx.x & 31u) == __ffs(static_cast<int>(mask)) - 1) atomicMax(c, most);
-#else
-  if (v > *c) *c = v;
 #endif
 }
 
@@ -141,6 +132,18 @@ struct NeighbourLists {
   int stride = 0;
   LS_HD int begin(int k) const { return k * stride; }
   LS_HD int end(int k) const { return k * stride + count[k]; }
+  // The entry of `body` in slot k's list (ascending: a binary search), or -1.
+  // For kernels that write none of the lists.
+  LS_HD int find(int k, int body) const {
+    const int last = begin(k) + ro(count + k);
+    int lo = begin(k), hi = last;
+    while (lo < hi) {
+      const int mid = lo + (hi - lo) / 2;
+      if (ro(nbr + mid) < body) lo = mid + 1;
+      else hi = mid;
+    }
+    return lo < last && ro(nbr + lo) == body ? lo : -1;
+  }
 };
 
 }  // namespace lockstep::gpu

@@ -69,7 +69,7 @@ class Pipeline final : public PipelineBase {
     if (n_sdf_ > 0) { sdf_c0_.resize(9 * n * static_cast<std::size_t>(n_sdf_) + 1); sdf_c1_.resize(9 * n * static_cast<std::size_t>(n_sdf_) + 1); }
     ctr_.resize(kCounterCount);
     be_.fill_zero(ctr_.data(), kCounterCount);
-    scal_.resize(5);
+    scal_.resize(4);
     sc_.P = s.P;
     sc_.half_tol = s.P.contact_tolerance * Num<float>::from_double(0.5);
     sc_.gravity = s.fx.gravity;
@@ -271,7 +271,7 @@ class Pipeline final : public PipelineBase {
   std::vector<int> colour_offset_;   // host: colour c's edges are edges_[offset[c], offset[c + 1])
   Buf<int> immovable_;               // per slot: contacts with immovable things (ContactsK)
   Buf<int> scal_;  // [0]: woken count, [1]: error (4 i + code, or INT_MAX), [2]: longest neighbour list,
-                   // [3]: edges left uncoloured, [4]: colours used
+                   // [3]: bodies whose settled velocity is not final yet (settling batches)
   bool frozen_dirty_ = true;
   bool coloured_ = false;  // this frame's body-body contacts are coloured
   int colours_ = 0;        // the coloured solver's colours (= colouring rounds) this frame

@@ -556,15 +556,8 @@ struct PreviousContacts {
   // frame); j_n = 0 when there is none.
   LS_HD F4 from(int j, int i) const {
     if (!had(j)) return F4{};
-    const int slot = ro(slot_of + j);
-    const int end = lists.begin(slot) + ro(lists.count + slot);
-    int lo = lists.begin(slot), hi = end;
-    while (lo < hi) {  // binary search in the ascending list
-      const int mid = lo + (hi - lo) / 2;
-      if (ro(lists.nbr + mid) < i) lo = mid + 1;
-      else hi = mid;
-    }
-    return (lo < end && ro(lists.nbr + lo) == i) ? ro(&pair[lo].a) : F4{};
+    const int t = lists.find(ro(slot_of + j), i);
+    return t >= 0 ? ro(&pair[t].a) : F4{};
   }
 };
 
@@ -868,8 +861,7 @@ struct SolveEdgeK {
     const int i = ro(d.list + t / d.lists.stride), j = ro(d.lists.nbr + t);
     const F4 pi4 = ro(b.pos + i), pj4 = ro(b.pos + j);
     const Vec3<float> p = xyz(pi4), pj = xyz(pj4);
-    const PairContact<float> pc = pair_contact(p, xyz(ro(b.aabb + i)), pj, xyz(ro(b.aabb + j)), sc.half_tol,
-                                               sc.P.contact_tolerance);
+    const PairContact<float> pc = canonical_pair(sc, i, p, xyz(ro(b.aabb + i)), j, pj, xyz(ro(b.aabb + j)));  // i < j
     BodyView<float> A = dynamic_view(xyz(vel[i]), xyz(ang[i]), pi4.w, rotation_matrix(quat(ro(b.rot + i))),
                                      xyz(ro(b.inert + i)));
     BodyView<float> B = dynamic_view(xyz(vel[j]), xyz(ang[j]), pj4.w, rotation_matrix(quat(ro(b.rot + j))),
