@@ -772,7 +772,8 @@ struct SolveK {
       };
     };
     if (sc.ground_on) {
-      auto corner_point = [&](int c, Vec3<float>& r1, Vec3<float>& n, float& penetration) {
+      auto corner_point = [&](int c, Vec3<float>& r1, Vec3<float>& r2, Vec3<float>& n, float& penetration) {
+        r2 = Vec3<float>{};
         Vec3<float> corner;
         penetration = ground_corner_depth(p, R, h, c, sc.ground_y, corner);
         r1 = corner - p;
@@ -783,7 +784,8 @@ struct SolveK {
     }
     for (int v = 0; v < sc.n_sdf; ++v) {
       const int base = sc.ground_slots() + 9 * v;
-      auto sample = [&](int s, Vec3<float>& r1, Vec3<float>& n, float& penetration) {
+      auto sample = [&](int s, Vec3<float>& r1, Vec3<float>& r2, Vec3<float>& n, float& penetration) {
+        r2 = Vec3<float>{};
         const int g = (k * sc.n_sdf + v) * 9 + s;
         const F4 c1 = ro(d.sdf_c1 + g), c0 = ro(d.sdf_c0 + g);
         r1 = xyz(c1) - p;

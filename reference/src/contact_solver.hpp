@@ -22,8 +22,8 @@ BodyView<T> view_of(const std::vector<Body<T>>& bodies, int idx) {
   return dynamic_view(b.v, b.w, b.inv_mass, b.R, b.inv_inertia);
 }
 
-// The most points of one manifold: 8 ground corners, or 9 samples of one SDF
-// volume (eq 93).
+// The most points of one manifold: 8 ground corners, 9 samples of one SDF
+// volume (eq 93), 4 box-box points (eq 105).
 inline constexpr int kManifoldPoints = 9;
 }  // namespace solver
 
@@ -73,26 +73,30 @@ void World<T>::solve_contacts() {
     }
   }
   // Iterations (eqs 94, 95, 97). A body's contacts with one environment
-  // object (its ground corners, its samples of one SDF) form a manifold that
-  // is solved Jacobi-style (eq 99, solve_manifold); a body pair is one
-  // contact (solve_contact, effective masses unscaled); manifolds and body
-  // pairs follow each other Gauss-Seidel-style in contact order.
+  // object (its ground corners, its samples of one SDF) and a body pair's
+  // box-box points (eqs 100-106) form a manifold that is solved Jacobi-style
+  // (eq 99, solve_manifold); with the source's AABB pair model a body pair is
+  // one contact (solve_contact, effective masses unscaled); manifolds and
+  // body pairs follow each other Gauss-Seidel-style in contact order.
   const T one = Num<T>::from_int(1);
+  const bool oriented = scene_.pair_contacts == PairModel::kOrientedBox;
   for (int it = 0; it < P_.solver_iterations; ++it) {
     for (std::size_t s = 0; s < contacts_.size();) {
       std::size_t e = s + 1;
-      if (contacts_[s].b < 0)
+      const bool manifold = contacts_[s].b < 0 || oriented;
+      if (manifold)
         while (e < contacts_.size() && contacts_[e].a == contacts_[s].a && contacts_[e].b == contacts_[s].b) ++e;
       const int ia = contacts_[s].a, ib = contacts_[s].b;
       BodyView<T> A = solver::view_of(bodies_, ia);
       BodyView<T> B = solver::view_of(bodies_, ib);
       SolveCounts counts;
-      if (ib < 0) {
+      if (manifold) {
         const auto points = static_cast<int>(e - s);  // <= kManifoldPoints by construction (narrow_phase)
-        auto point = [&](int k, Vec3<T>& r1, Vec3<T>& n, T& penetration) {
+        auto point = [&](int k, Vec3<T>& r1, Vec3<T>& r2, Vec3<T>& n, T& penetration) {
           if (k >= points) return false;
           const Contact<T>& c = contacts_[s + static_cast<std::size_t>(k)];
           r1 = c.r1;
+          r2 = c.r2;
           n = c.n;
           penetration = c.penetration;
           return true;

@@ -1,8 +1,10 @@
 // Stages 3-4 of docs/SPEC.md 7.2: contacts against the ground (eq 84), SDF
-// volumes (eqs 32-37, 93) and other bodies (eqs 38-43, 85), and waking (eq 81).
+// volumes (eqs 32-37, 93) and other bodies (eqs 100-106, or the source's
+// eqs 38-43, 85), and waking (eq 81).
 #pragma once
 #include <vector>
 
+#include "lockstep/physics/box_box.hpp"
 #include "lockstep/physics/narrow.hpp"
 #include "lockstep/world.hpp"
 
@@ -15,23 +17,48 @@ void World<T>::narrow_phase() {
   const T half_tol = P_.contact_tolerance * Num<T>::from_double(0.5);
   const T tol = half_tol + half_tol;  // the two growths together
   // Body against body, pairs in ascending (i, j) order.
+  const bool oriented = scene_.pair_contacts == PairModel::kOrientedBox;
   for (const auto& [i, j] : pairs_) {
     const Body<T>& A = bodies_[static_cast<std::size_t>(i)];
     const Body<T>& B = bodies_[static_cast<std::size_t>(j)];
     ++counters_.pairs_tested;
     // eqs 38-43, 85 on boxes grown by half the contact tolerance each (eq 97):
-    // pairs up to contact_tolerance apart are speculative contacts.
+    // pairs up to contact_tolerance apart are speculative contacts. With the
+    // oriented-box model this is the early-out of eqs 100-106.
     const PairContact<T> pc = pair_contact(A.p, A.aabb_half, B.p, B.aabb_half, half_tol, tol);
     if (!pc.hit) continue;
-    Contact<T> c;
-    c.a = i;
-    c.b = j;
-    c.n = pc.n;
-    c.penetration = pc.penetration;  // the true overlap (negative: a gap)
-    c.point = pc.point;
-    pair_contacts.push_back(c);
-    ++counters_.body_contacts;
-    check_faults(i, "body contact");
+    if (!oriented) {
+      Contact<T> c;
+      c.a = i;
+      c.b = j;
+      c.n = pc.n;
+      c.penetration = pc.penetration;  // the true overlap (negative: a gap)
+      c.point = pc.point;
+      pair_contacts.push_back(c);
+      ++counters_.body_contacts;
+      check_faults(i, "body contact");
+      continue;
+    }
+    // eqs 100-106: up to 4 points with one normal; only the deepest (first on
+    // ties) carries the pair's position correction (eq 89), as on the ground.
+    const BoxManifold<T> m = box_box_manifold(A.p, A.R, A.half, B.p, B.R, B.half, P_.contact_tolerance);
+    check_faults(i, "box-box contact");
+    int deepest = -1;
+    const auto first = pair_contacts.size();
+    for (int k = 0; k < m.count; ++k) {
+      Contact<T> c;
+      c.a = i;
+      c.b = j;
+      c.n = m.n;
+      c.penetration = m.penetration[k];
+      c.point = m.point[k];
+      c.feature = m.feature[k];
+      c.corrects = false;
+      if (deepest < 0 || c.penetration > m.penetration[deepest]) deepest = k;
+      pair_contacts.push_back(c);
+      ++counters_.body_contacts;
+    }
+    if (deepest >= 0) pair_contacts[first + static_cast<std::size_t>(deepest)].corrects = true;
   }
   if (scene_.effects.sleep) wake_touched(pair_contacts);
 

@@ -252,6 +252,10 @@ const std::vector<ConstSpec>& constant_specs() {
   return specs;
 }
 
+// The "pair_contacts" names, in PairModel order.
+constexpr const char* kPairModelNames[] = {"oriented_box", "aabb"};
+const char* pair_model_name(PairModel m) { return kPairModelNames[m == PairModel::kOrientedBox ? 0 : 1]; }
+
 constexpr const char* kEffectNames[] = {"gravity", "damping", "ground", "contacts", "friction",
                                         "restitution", "settling", "sleep", "sdf"};
 bool Effects::*const kEffectMembers[] = {&Effects::gravity,  &Effects::damping,     &Effects::ground,
@@ -402,8 +406,8 @@ class SceneReader {
       fail("", "the scene must be a JSON object {\"format\": \"lockstep-scene\", \"version\": 1, ...}, got " +
                    with_article(root.type_name()) + " (wrap the scene in { })");
     }
-    check_keys(root, "", {"format", "version", "name", "frames", "effects", "constants", "ground", "bodies",
-                          "sdfs"});
+    check_keys(root, "", {"format", "version", "name", "frames", "pair_contacts", "effects", "constants", "ground",
+                          "bodies", "sdfs"});
     const json* format = find(root, "format");
     if (format == nullptr) {
       fail("format", "missing required key \"format\": a scene file starts with \"format\": \"lockstep-scene\", "
@@ -425,6 +429,7 @@ class SceneReader {
     if (const json* j = find(root, "frames")) {
       s.frames = static_cast<int>(integer(*j, "frames", 1, kMaxSceneFrames, "", "the number of steps to run"));
     }
+    if (const json* j = find(root, "pair_contacts")) s.pair_contacts = pair_model(*j, "pair_contacts");
     if (const json* j = find(root, "effects")) read_effects(*j, "effects", s.effects);
     if (const json* j = find(root, "constants")) read_constants(*j, "constants", s.constants);
     if (const json* j = find(root, "ground")) read_ground(*j, "ground", s.ground);
@@ -620,6 +625,15 @@ class SceneReader {
     check_keys(j, path, {"restitution", "friction"});
     if (const json* v = find(j, "restitution")) m.restitution = real(*v, child(path, "restitution"), kRestitution);
     if (const json* v = find(j, "friction")) m.friction = real(*v, child(path, "friction"), kFriction);
+  }
+
+  // "pair_contacts": how body pairs touch (docs/SPEC.md 2.2, 2.4).
+  PairModel pair_model(const json& j, const std::string& path) const {
+    const std::string v = string(j, path);
+    if (v == kPairModelNames[0]) return PairModel::kOrientedBox;
+    if (v == kPairModelNames[1]) return PairModel::kAabb;
+    fail(path, shown(j) + " is not a pair contact model: must be \"oriented_box\" (eqs 100-106, the default) or "
+               "\"aabb\" (the source's single AABB point, eqs 38-43, 85)");
   }
 
   void read_effects(const json& j, const std::string& path, Effects& e) const {
@@ -920,6 +934,7 @@ class Comparer {
 
   bool scene(const Scene& a, const Scene& b) {
     if (!str(a.name, b.name, "name") || !integer(a.frames, b.frames, "frames")) return false;
+    if (!str(pair_model_name(a.pair_contacts), pair_model_name(b.pair_contacts), "pair_contacts")) return false;
     for (std::size_t i = 0; i < std::size(kEffectNames); ++i) {
       if (!boolean(a.effects.*kEffectMembers[i], b.effects.*kEffectMembers[i], child("effects", kEffectNames[i]))) {
         return false;
@@ -1025,7 +1040,9 @@ std::string scene_to_json(const Scene& s) {
   std::string& o = w.out;
   o += "{\n  \"format\": \"lockstep-scene\",\n  \"version\": 1,\n  \"name\": ";
   w.str(s.name);
-  o += ",\n  \"frames\": " + std::to_string(s.frames) + ",\n  \"effects\": {";
+  o += ",\n  \"frames\": " + std::to_string(s.frames) + ",\n  \"pair_contacts\": ";
+  w.str(pair_model_name(s.pair_contacts));
+  o += ",\n  \"effects\": {";
   for (std::size_t i = 0; i < std::size(kEffectNames); ++i) {
     if (i) o += ", ";
     w.key(kEffectNames[i]);

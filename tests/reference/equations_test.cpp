@@ -241,8 +241,9 @@ RC_GTEST_PROP(ContactTest, Eq99ManifoldStepNeverGainsEnergy, ()) {
     return 0.5 * mass * dot(b.v, b.v) + 0.5 * (wl.x * wl.x / b.inv_inertia.x + wl.y * wl.y / b.inv_inertia.y + wl.z * wl.z / b.inv_inertia.z);
   };
   const double e0 = energy(A);
-  auto point = [&](int k, V& rr, V& n, double& pen) {
+  auto point = [&](int k, V& rr, V& r2, V& n, double& pen) {
     if (k >= n_points) return false;
+    r2 = V{};
     rr = r[k];
     n = kUp;
     pen = 0.005;  // touching: target -e v_n0 = 0

@@ -51,8 +51,9 @@ TYPED_TEST(SharedSteps, OnePointManifoldIsOneContactVisit) {
   BodyView<T> A2 = falling_cube<T>(), B2 = ground;
   ContactState<T> c2 = start;
   SolveCounts n2;
-  auto point = [&](int k, Vec3<T>& r, Vec3<T>& nn, T& pen) {
+  auto point = [&](int k, Vec3<T>& r, Vec3<T>& r2, Vec3<T>& nn, T& pen) {
     if (k != 0) return false;
+    r2 = Vec3<T>{};
     r = r1;
     nn = n;
     pen = penetration;
@@ -86,7 +87,8 @@ TYPED_TEST(SharedSteps, ManifoldBetweenImmovableSidesIsSkippedWithoutAFault) {
   Num<T>::take_faults();
   BodyView<T> A = immovable_view<T>(), B = immovable_view<T>();
   ContactState<T> states[4];
-  auto point = [&](int k, Vec3<T>& r, Vec3<T>& n, T& pen) {
+  auto point = [&](int k, Vec3<T>& r, Vec3<T>& r2, Vec3<T>& n, T& pen) {
+    r2 = Vec3<T>{};
     r = vec<T>(k & 1 ? 0.5 : -0.5, -0.5, k & 2 ? 0.5 : -0.5);
     n = vec<T>(0, 1, 0);
     pen = Num<T>::from_double(0.01);

@@ -216,8 +216,9 @@ Json f_manifold_visit(In in, const std::string& p) {
     points.push_back(pt);
   }
   const int count = static_cast<int>(points.size());
-  auto point = [&](int k, V& r1, V& n, Q16& penetration) {
+  auto point = [&](int k, V& r1, V& r2, V& n, Q16& penetration) {
     if (k >= count) return false;
+    r2 = V{};
     const Point& pt = points[static_cast<std::size_t>(k)];
     r1 = pt.r1;
     n = pt.n;

@@ -95,9 +95,16 @@ struct Constants {
   double wake_penetration = 0.02;       // (m) 5.1, eq 81
 };
 
+// How a body pair touches (docs/SPEC.md 2.2, 2.4).
+enum class PairModel {
+  kOrientedBox,  // eqs 100-106: separating axes on the oriented boxes, a manifold of up to 4 points (default)
+  kAabb,         // eqs 38-43, 85: the source's single point at the centre of the two AABBs' overlap
+};
+
 struct Scene {
   std::string name = "scene";
   int frames = 600;
+  PairModel pair_contacts = PairModel::kOrientedBox;  // JSON "pair_contacts": "oriented_box" or "aabb"
   Effects effects;
   Constants constants;
   GroundDesc ground;

@@ -134,15 +134,14 @@ LS_HD void solve_contact(BodyView<T>& A, const Vec3<T>& r1, BodyView<T>& B, cons
 
 // Eq 99's step length for the impulses that a manifold's points propose
 // together: `impulse(k, n)` is point k's proposed impulse (0: none) and
-// `pull(k, r1, n)` the velocity change it asks for, both in world axes; `A`,
-// `B` the two sides (B immovable; only their masses and inertia are used).
+// `pull(k, r1, r2, n)` the velocity change it asks for, both in world axes;
+// `A`, `B` the two sides (only their masses and inertia are used).
 // With R the largest component of any impulse (a common scale that keeps the
 // sums inside Q16.16), a = sum_k (J_k / R) . pull_k and b = sum_k (J_k / R) . dv_k,
 // dv_k being the velocity change at point k that all impulses cause together.
 template <int N, class T, class Point, class Impulse, class Pull>
 LS_HD T manifold_step(const BodyView<T>& A, const BodyView<T>& B, const Point& point, const Impulse& impulse,
                       const Pull& pull) {
-  const Vec3<T> r2{};
   BodyView<T> Z = A, Zb = B;  // the sides at rest: they gather the impulses' velocity change
   Z.v = Z.w = Zb.v = Zb.w = Vec3<T>{};
   T reach{};
@@ -150,9 +149,9 @@ LS_HD T manifold_step(const BodyView<T>& A, const BodyView<T>& B, const Point& p
 #pragma unroll 1
 #endif
   for (int k = 0; k < N; ++k) {
-    Vec3<T> r1, n;
+    Vec3<T> r1, r2, n;
     T penetration;
-    if (!point(k, r1, n, penetration)) continue;
+    if (!point(k, r1, r2, n, penetration)) continue;
     const Vec3<T> J = impulse(k, n);
     if (J == Vec3<T>{}) continue;
     apply_impulse(Z, r1, Zb, r2, J);
@@ -164,13 +163,13 @@ LS_HD T manifold_step(const BodyView<T>& A, const BodyView<T>& B, const Point& p
 #pragma unroll 1
 #endif
   for (int k = 0; k < N; ++k) {
-    Vec3<T> r1, n;
+    Vec3<T> r1, r2, n;
     T penetration;
-    if (!point(k, r1, n, penetration)) continue;
+    if (!point(k, r1, r2, n, penetration)) continue;
     const Vec3<T> J = impulse(k, n);
     if (J == Vec3<T>{}) continue;
     const Vec3<T> w{J.x / reach, J.y / reach, J.z / reach};  // in [-1, 1]
-    a += dot(w, pull(k, r1, n));
+    a += dot(w, pull(k, r1, r2, n));
     b += dot(w, relative_velocity(Z, r1, Zb, r2));
   }
   return manifold_step_length(a, b);
@@ -178,8 +177,9 @@ LS_HD T manifold_step(const BodyView<T>& A, const BodyView<T>& B, const Point& p
 
 // One solver visit of a manifold (eq 99): a body A's contacts with one
 // immovable environment object B (its ground corners, its samples of one SDF
-// volume; r2 = 0), solved Jacobi-style so that a symmetric landing stays
-// symmetric. Normal step: every point's impulse is proposed from the
+// volume; r2 = 0), or the points of a body pair's box-box manifold (eq 105; B
+// the other body, r2 its lever arms), solved Jacobi-style so that a
+// symmetric landing stays symmetric. Normal step: every point's impulse is proposed from the
 // velocities at the start of the visit (eqs 53, 94, 97), with each point's
 // effective mass scaled by split = max(1, o), o = sum_k m^-1 / k_n,k (the
 // points share one body, so their simultaneous impulses add up: o is 1 for a
@@ -189,23 +189,22 @@ LS_HD T manifold_step(const BodyView<T>& A, const BodyView<T>& B, const Point& p
 // rotation (two corners at one end of a thin plate) and so from adding
 // energy; then all are applied. Friction step: the same, from the velocities
 // after the normal step (eqs 56-62, 88, 95).
-// `point(k, r1, n, penetration)` gives point k (k = 0..N-1; false: not a
+// `point(k, r1, r2, n, penetration)` gives point k (k = 0..N-1; false: not a
 // contact); `load(k)` and `store(k, state)` read and write its solver state.
 // The visit is skipped when the first point's k_n is 0 (both sides
 // immovable).
 template <int N, class T, class Point, class Load, class Store>
 LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point, const Load& load, const Store& store,
                           bool friction, bool gravity, const Params<T>& P, SolveCounts& counts) {
-  const Vec3<T> r2{};
   const T one = Num<T>::from_int(1);
   T split = one;  // eq 99
   int count = 0;
   {
     T o{};
     for (int k = 0; k < N; ++k) {
-      Vec3<T> r1, n;
+      Vec3<T> r1, r2, n;
       T penetration;
-      if (!point(k, r1, n, penetration)) continue;
+      if (!point(k, r1, r2, n, penetration)) continue;
       const T k_n = load(k).k_n;
       if (count == 0 && !(k_n > T{})) return;  // both sides immovable
       ++count;
@@ -220,9 +219,9 @@ LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point, co
 #endif
   for (int k = 0; k < N; ++k) {
     dj[k] = res[k] = T{};
-    Vec3<T> r1, n;
+    Vec3<T> r1, r2, n;
     T penetration;
-    if (!point(k, r1, n, penetration)) continue;
+    if (!point(k, r1, r2, n, penetration)) continue;
     const ContactState<T> c = load(k);
     ++counts.solver_contacts;
     const T v_n = dot(relative_velocity(A, r1, B, r2), n);  // eqs 48-49, at the visit's start
@@ -236,7 +235,7 @@ LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point, co
   if (count > 1) {
     const T alpha = manifold_step<N>(
         A, B, point, [&](int k, const Vec3<T>& n) { return n * dj[k]; },
-        [&](int k, const Vec3<T>&, const Vec3<T>& n) { return n * res[k]; });  // eq 99
+        [&](int k, const Vec3<T>&, const Vec3<T>&, const Vec3<T>& n) { return n * res[k]; });  // eq 99
     if (alpha < one)
       for (int k = 0; k < N; ++k) dj[k] = dj[k] * alpha;
   }
@@ -244,9 +243,9 @@ LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point, co
 #pragma unroll 1
 #endif
   for (int k = 0; k < N; ++k) {
-    Vec3<T> r1, n;
+    Vec3<T> r1, r2, n;
     T penetration;
-    if (dj[k] == T{} || !point(k, r1, n, penetration)) continue;
+    if (dj[k] == T{} || !point(k, r1, r2, n, penetration)) continue;
     ContactState<T> c = load(k);
     c.j_n += dj[k];  // eq 94: stays >= 0, alpha <= 1
     store(k, c);
@@ -263,9 +262,9 @@ LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point, co
 #endif
   for (int k = 0; k < N; ++k) {
     dJ[k] = Vec3<T>{};
-    Vec3<T> r1, n;
+    Vec3<T> r1, r2, n;
     T penetration;
-    if (!point(k, r1, n, penetration)) continue;
+    if (!point(k, r1, r2, n, penetration)) continue;
     const ContactState<T> c = load(k);
     if (!(c.j_n > T{}) && c.j_t == Vec3<T>{}) continue;
     const Vec3<T> v_tan = tangential_velocity(relative_velocity(A1, r1, B1, r2), n);  // eq 56
@@ -277,7 +276,7 @@ LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point, co
   if (count > 1) {
     const T alpha = manifold_step<N>(
         A1, B1, point, [&](int k, const Vec3<T>&) { return dJ[k]; },
-        [&](int, const Vec3<T>& r1, const Vec3<T>&) { return -relative_velocity(A1, r1, B1, r2); });  // eq 99
+        [&](int, const Vec3<T>& r1, const Vec3<T>& r2, const Vec3<T>&) { return -relative_velocity(A1, r1, B1, r2); });  // eq 99
     if (alpha < one)
       for (int k = 0; k < N; ++k) dJ[k] = dJ[k] * alpha;
   }
@@ -285,9 +284,9 @@ LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point, co
 #pragma unroll 1
 #endif
   for (int k = 0; k < N; ++k) {
-    Vec3<T> r1, n;
+    Vec3<T> r1, r2, n;
     T penetration;
-    if (dJ[k] == Vec3<T>{} || !point(k, r1, n, penetration)) continue;
+    if (dJ[k] == Vec3<T>{} || !point(k, r1, r2, n, penetration)) continue;
     ContactState<T> c = load(k);
     c.j_t += dJ[k];
     store(k, c);
