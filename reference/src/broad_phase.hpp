@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "lockstep/physics/aabb.hpp"
+#include "lockstep/physics/box_box.hpp"
 #include "lockstep/world.hpp"
 
 namespace lockstep {
@@ -28,9 +29,16 @@ void World<T>::broad_phase() {
   pairs_.clear();
   if (!scene_.effects.contacts || bodies_.size() < 2) return;
   const std::size_t n = bodies_.size();
-  // Boxes grown by half the contact tolerance (eq 97), as the narrowphase grows them.
+  // Boxes grown by half the contact tolerance (eq 97) and, with the
+  // oriented-box pair model, by the body's speculative reach (eq 107), as the
+  // narrowphase grows them.
   const T half_tol = P_.contact_tolerance * Num<T>::from_double(0.5);
-  const Vec3<T> grow{half_tol, half_tol, half_tol};
+  const bool oriented = scene_.pair_contacts == PairModel::kOrientedBox;
+  grow_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Body<T>& b = bodies_[i];
+    grow_[i] = oriented && b.awake() ? half_tol + speculative_reach(b.v, b.w, b.half, P_.dt) : half_tol;  // eq 107
+  }
   std::vector<Cell> cmin(n), cmax(n);
   std::vector<T> min_x(n), max_x(n);
   struct Entry { std::uint64_t key; int body; };
@@ -39,6 +47,7 @@ void World<T>::broad_phase() {
   entries.reserve(n * 2);
   for (std::size_t i = 0; i < n; ++i) {
     const Body<T>& b = bodies_[i];
+    const Vec3<T> grow{grow_[i], grow_[i], grow_[i]};
     const Vec3<T> lo = b.p - (b.aabb_half + grow), hi = b.p + (b.aabb_half + grow);  // eqs 29-30
     cmin[i] = {cell_coord(lo.x, P_.inv_cell_size), cell_coord(lo.y, P_.inv_cell_size), cell_coord(lo.z, P_.inv_cell_size)};
     cmax[i] = {cell_coord(hi.x, P_.inv_cell_size), cell_coord(hi.y, P_.inv_cell_size), cell_coord(hi.z, P_.inv_cell_size)};
@@ -59,9 +68,10 @@ void World<T>::broad_phase() {
     const Body<T>& a = bodies_[static_cast<std::size_t>(i)];
     const Body<T>& b = bodies_[static_cast<std::size_t>(j)];
     if (!a.awake() && !b.awake()) return;
+    const T ga = grow_[static_cast<std::size_t>(i)], gb = grow_[static_cast<std::size_t>(j)];
     for (int ax = 1; ax < 3; ++ax)  // x was checked by the sweep
-      if (a.p[ax] + (a.aabb_half[ax] + half_tol) < b.p[ax] - (b.aabb_half[ax] + half_tol) ||
-          b.p[ax] + (b.aabb_half[ax] + half_tol) < a.p[ax] - (a.aabb_half[ax] + half_tol)) return;
+      if (a.p[ax] + (a.aabb_half[ax] + ga) < b.p[ax] - (b.aabb_half[ax] + gb) ||
+          b.p[ax] + (b.aabb_half[ax] + gb) < a.p[ax] - (a.aabb_half[ax] + ga)) return;
     pairs_.emplace_back(std::min(i, j), std::max(i, j));
   };
   std::vector<int> members;

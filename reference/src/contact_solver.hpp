@@ -3,6 +3,7 @@
 // Baumgarte position correction (eqs 63, 89).
 #pragma once
 #include <algorithm>
+#include <utility>
 #include <vector>
 
 #include "lockstep/physics/contact.hpp"
@@ -80,12 +81,23 @@ void World<T>::solve_contacts() {
   // body pairs follow each other Gauss-Seidel-style in contact order.
   const T one = Num<T>::from_int(1);
   const bool oriented = scene_.pair_contacts == PairModel::kOrientedBox;
+  // The visits: a manifold (consecutive contacts of one body with one other
+  // side) or a single AABB pair contact, as [begin, end) in the list.
+  std::vector<std::pair<std::size_t, std::size_t>> visits;
+  for (std::size_t s = 0; s < contacts_.size();) {
+    std::size_t e = s + 1;
+    if (contacts_[s].b < 0 || oriented)
+      while (e < contacts_.size() && contacts_[e].a == contacts_[s].a && contacts_[e].b == contacts_[s].b) ++e;
+    visits.emplace_back(s, e);
+    s = e;
+  }
+  // 7.2 step 5: even passes visit the list in order, odd passes in reverse
+  // (symmetric Gauss-Seidel), so an impact on top of a stack reaches the
+  // ground within one pass and the ground's answer climbs back in the next.
   for (int it = 0; it < P_.solver_iterations; ++it) {
-    for (std::size_t s = 0; s < contacts_.size();) {
-      std::size_t e = s + 1;
+    for (std::size_t vi = 0; vi < visits.size(); ++vi) {
+      const auto [s, e] = visits[(it & 1) ? visits.size() - 1 - vi : vi];
       const bool manifold = contacts_[s].b < 0 || oriented;
-      if (manifold)
-        while (e < contacts_.size() && contacts_[e].a == contacts_[s].a && contacts_[e].b == contacts_[s].b) ++e;
       const int ia = contacts_[s].a, ib = contacts_[s].b;
       BodyView<T> A = solver::view_of(bodies_, ia);
       BodyView<T> B = solver::view_of(bodies_, ib);
@@ -112,7 +124,6 @@ void World<T>::solve_contacts() {
       if (A.inv_mass > T{}) { Body<T>& b = bodies_[static_cast<std::size_t>(ia)]; b.v = A.v; b.w = A.w; }
       if (B.inv_mass > T{}) { Body<T>& b = bodies_[static_cast<std::size_t>(ib)]; b.v = B.v; b.w = B.w; }
       check_faults(ia, ib >= 0 ? "contact impulse (with another body)" : "contact impulse");
-      s = e;
     }
   }
   warm_.clear();

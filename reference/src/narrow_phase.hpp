@@ -22,12 +22,37 @@ void World<T>::narrow_phase() {
     const Body<T>& A = bodies_[static_cast<std::size_t>(i)];
     const Body<T>& B = bodies_[static_cast<std::size_t>(j)];
     ++counters_.pairs_tested;
-    // eqs 38-43, 85 on boxes grown by half the contact tolerance each (eq 97):
-    // pairs up to contact_tolerance apart are speculative contacts. With the
-    // oriented-box model this is the early-out of eqs 100-106.
+    if (oriented) {
+      // eqs 100-107: the grown AABBs (reach included) as the early-out, then
+      // up to 4 points with one normal within contact_tolerance plus both
+      // reaches; only the deepest (first on ties) carries the pair's position
+      // correction (eq 89), as on the ground.
+      const T ga = grow_[static_cast<std::size_t>(i)], gb = grow_[static_cast<std::size_t>(j)];
+      if (!aabb_overlap(A.p, A.aabb_half + Vec3<T>{ga, ga, ga}, B.p, B.aabb_half + Vec3<T>{gb, gb, gb}).hit) continue;
+      const T pair_tol = (ga - half_tol) + (gb - half_tol) + P_.contact_tolerance;
+      const BoxManifold<T> m = box_box_manifold(A.p, A.R, A.half, B.p, B.R, B.half, pair_tol);
+      check_faults(i, "box-box contact");
+      int deepest = -1;
+      const auto first = pair_contacts.size();
+      for (int k = 0; k < m.count; ++k) {
+        Contact<T> c;
+        c.a = i;
+        c.b = j;
+        c.n = m.n;
+        c.penetration = m.penetration[k];
+        c.point = m.point[k];
+        c.feature = m.feature[k];
+        c.corrects = false;
+        if (deepest < 0 || c.penetration > m.penetration[deepest]) deepest = k;
+        pair_contacts.push_back(c);
+        ++counters_.body_contacts;
+      }
+      if (deepest >= 0) pair_contacts[first + static_cast<std::size_t>(deepest)].corrects = true;
+      continue;
+    }
     const PairContact<T> pc = pair_contact(A.p, A.aabb_half, B.p, B.aabb_half, half_tol, tol);
     if (!pc.hit) continue;
-    if (!oriented) {
+    {
       Contact<T> c;
       c.a = i;
       c.b = j;
@@ -37,28 +62,7 @@ void World<T>::narrow_phase() {
       pair_contacts.push_back(c);
       ++counters_.body_contacts;
       check_faults(i, "body contact");
-      continue;
     }
-    // eqs 100-106: up to 4 points with one normal; only the deepest (first on
-    // ties) carries the pair's position correction (eq 89), as on the ground.
-    const BoxManifold<T> m = box_box_manifold(A.p, A.R, A.half, B.p, B.R, B.half, P_.contact_tolerance);
-    check_faults(i, "box-box contact");
-    int deepest = -1;
-    const auto first = pair_contacts.size();
-    for (int k = 0; k < m.count; ++k) {
-      Contact<T> c;
-      c.a = i;
-      c.b = j;
-      c.n = m.n;
-      c.penetration = m.penetration[k];
-      c.point = m.point[k];
-      c.feature = m.feature[k];
-      c.corrects = false;
-      if (deepest < 0 || c.penetration > m.penetration[deepest]) deepest = k;
-      pair_contacts.push_back(c);
-      ++counters_.body_contacts;
-    }
-    if (deepest >= 0) pair_contacts[first + static_cast<std::size_t>(deepest)].corrects = true;
   }
   if (scene_.effects.sleep) wake_touched(pair_contacts);
 

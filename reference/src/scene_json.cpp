@@ -221,7 +221,7 @@ const std::vector<ConstSpec>& constant_specs() {
         {0.25, 1024.0, false, false, "m", "use about twice the largest body's size"}),
       R("slop", &C::slop, {0.0, 1.0, false, false, "m", "the default is 0.001"}),
       R("baumgarte", &C::baumgarte, {0.0, 1.0, false, false, "", "the default is 1"}),
-      I("solver_iterations", &C::solver_iterations, 1, 64, "the default is 4"),
+      I("solver_iterations", &C::solver_iterations, 1, 64, "the default is 8"),
       R("contact_tolerance", &C::contact_tolerance,
         {0.0, 1.0, false, false, "m", "the default is 0.01"}),
       R("kp", &C::kp, {0.0, 1000.0, false, false, "rad/s", "the default is 30"}),

@@ -91,6 +91,7 @@ World<T>& World<T>::operator=(const World& other) {
   sdfs_ = other.sdfs_;
   for (std::size_t k = 0; k < sdfs_.size(); ++k) sdfs_[k].values = sdf_values_[k].data();
   pairs_ = other.pairs_;
+  grow_ = other.grow_;
   contacts_ = other.contacts_;
   warm_ = other.warm_;
   support_ = other.support_;

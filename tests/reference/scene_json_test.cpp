@@ -266,6 +266,21 @@ TEST(ExampleScenes, DocumentationExampleLoads) {
 // Unit tests of the format's rules
 // ---------------------------------------------------------------------------
 
+TEST(SceneJson, PairContactModelIsReadWrittenAndChecked) {
+  Scene s = parse_scene(R"({"format": "lockstep-scene", "version": 1, "pair_contacts": "aabb"})", "scene.json");
+  EXPECT_EQ(s.pair_contacts, PairModel::kAabb);
+  EXPECT_EQ(parse_scene(scene_to_json(s), "round.json").pair_contacts, PairModel::kAabb);
+  EXPECT_EQ(parse_scene(R"({"format": "lockstep-scene", "version": 1})", "scene.json").pair_contacts,
+            PairModel::kOrientedBox);
+  try {
+    parse_scene(R"({"format": "lockstep-scene", "version": 1, "pair_contacts": "obb"})", "scene.json");
+    FAIL() << "an unknown pair model was accepted";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("pair_contacts: \"obb\" is not a pair contact model: must be \"oriented_box\""),
+              std::string::npos) << e.what();
+  }
+}
+
 TEST(SceneJson, WriterPinsEveryField) {
   Scene s;
   const json j = json::parse(scene_to_json(s));
@@ -273,7 +288,8 @@ TEST(SceneJson, WriterPinsEveryField) {
   EXPECT_EQ(j.at("version"), 1);
   EXPECT_EQ(j.at("effects").size(), 9u);
   EXPECT_EQ(j.at("constants").size(), 32u);
-  EXPECT_EQ(j.at("constants").at("solver_iterations"), 4);
+  EXPECT_EQ(j.at("constants").at("solver_iterations"), 8);
+  EXPECT_EQ(j.at("pair_contacts"), "oriented_box");
   EXPECT_TRUE(j.at("constants").at("solver_iterations").is_number_integer());
   EXPECT_TRUE(j.at("constants").at("kp").is_number_float());  // written 30.0
 }

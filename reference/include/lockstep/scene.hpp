@@ -68,7 +68,7 @@ struct Constants {
   double cell_size = 4.0;               // (m) eq 25
   double slop = 0.001;                  // (m) eq 63
   double baumgarte = 1.0;               // percent (1) eq 63
-  int solver_iterations = 4;            // sequential-impulse passes (7.2)
+  int solver_iterations = 8;            // sequential-impulse passes (7.2), alternating direction
   double contact_tolerance = 0.01;      // (m) points this close to touching are (speculative) contacts (84, 97)
   double kp = 30.0;                     // (rad/s) eq 69
   double kd = 10.0;                     // (1/s) eq 71

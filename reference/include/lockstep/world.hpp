@@ -148,6 +148,7 @@ class World {
   std::vector<std::vector<T>> sdf_values_;
   std::vector<SdfGrid<T>> sdfs_;
   std::vector<std::pair<int, int>> pairs_;
+  std::vector<T> grow_;               // per body: its AABB growth this frame, half_tol + speculative reach (eqs 97, 107)
   std::vector<Contact<T>> contacts_;
   // eq 96: last frame's accumulated impulses, sorted by (a, b, feature).
   struct CachedImpulse { int a, b, feature; T j_n; };
