@@ -248,6 +248,7 @@ const std::vector<ConstSpec>& constant_specs() {
       I("sleep_frames", &C::sleep_frames, 1, 100000, "the default is 30"),
       R("wake_speed", &C::wake_speed, {0.0, 100.0, false, false, "m/s", "the default is 0.1"}),
       R("wake_penetration", &C::wake_penetration, {0.0, 10.0, false, false, "m", "the default is 0.02"}),
+      R("wake_support_distance", &C::wake_support_distance, {0.0, 10.0, false, false, "m", "the default is 0.005"}),
   };
   return specs;
 }

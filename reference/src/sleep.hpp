@@ -1,4 +1,5 @@
-// Stages 4 and 9 of docs/SPEC.md 7.2: wake (5.1, eq 81) and sleep (4.7, eqs 78-80).
+// Stages 2a, 4 and 9 of docs/SPEC.md 7.2: wake (5.1, eqs 81, 108) and sleep
+// (4.7, eqs 78-80).
 #pragma once
 #include "lockstep/physics/body_step.hpp"
 #include "lockstep/world.hpp"
@@ -20,9 +21,56 @@ void World<T>::wake_touched(const std::vector<Contact<T>>& pair_contacts) {
     if (!other.awake()) continue;  // a sleeper touched by a sleeper or a static body
     if (wake_test(A.v, A.asleep, B.v, B.asleep, c.n, c.penetration, P_)) {
       sleeper->asleep = false;
+      rests_[static_cast<std::size_t>(sleeper == &A ? c.a : c.b)].clear();
       sleeper->sleep_counter = 0;
       ++counters_.wakes;
     }
+  }
+}
+
+// eq 108: before the broadphase, in index order, a sleeping body wakes when a
+// dynamic body it rested on has carried its support point away by more than
+// wake_support_distance (only an awake supporter can have moved). It then
+// takes part in this frame's broadphase, contacts and solve.
+template <class T>
+void World<T>::wake_unsupported() {
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    Body<T>& b = bodies_[i];
+    if (!b.asleep) { rests_[i].clear(); continue; }
+    for (const Rest& r : rests_[i]) {
+      const Body<T>& s = bodies_[static_cast<std::size_t>(r.body)];
+      if (!s.awake() || !support_moved(s.p, s.R, r.local, r.rest, P_.wake_support_distance)) continue;
+      b.asleep = false;
+      b.sleep_counter = 0;
+      ++counters_.wakes;
+      rests_[i].clear();
+      break;
+    }
+    check_faults(static_cast<int>(i), "support wake");
+  }
+}
+
+// eq 108: what body i rests on as it falls asleep: the dynamic bodies of its
+// support contacts (Part 4), each once, in contact order, at most kMaxRests;
+// the support point in the supporter's frame, and where it is now.
+template <class T>
+void World<T>::record_supports(std::size_t i) {
+  std::vector<Rest>& rests = rests_[i];
+  rests.clear();
+  for (const Contact<T>& c : contacts_) {
+    if (c.b < 0 || !(c.penetration > -P_.slop)) continue;
+    const bool is_a = c.a == static_cast<int>(i), is_b = c.b == static_cast<int>(i);
+    if (!is_a && !is_b) continue;
+    if ((is_a ? c.n.y : -c.n.y) < P_.support_normal_min) continue;
+    const int other = is_a ? c.b : c.a;
+    const Body<T>& s = bodies_[static_cast<std::size_t>(other)];
+    if (s.is_static) continue;
+    bool seen = false;
+    for (const Rest& r : rests) seen = seen || r.body == other;
+    if (seen) continue;
+    if (static_cast<int>(rests.size()) == kMaxRests) break;
+    const Vec3<T> local = mat_transpose_mul(s.R, c.point - s.p);
+    rests.push_back({other, local, s.p + s.R * local});
   }
 }
 
@@ -37,6 +85,7 @@ void World<T>::update_sleep() {
     if (lockstep::update_sleep(b.v, b.w, b.sleep_counter, supported, b.R, up, length(b.half), P_)) {  // eqs 78-80
       b.asleep = true;
       b.sleep_frame = frame_;
+      record_supports(i);
     }
     check_faults(static_cast<int>(i), "sleep");
   }
@@ -47,6 +96,7 @@ void World<T>::wake(int i) {
   Body<T>& b = bodies_.at(static_cast<std::size_t>(i));
   if (b.is_static || !b.asleep) return;
   b.asleep = false;
+  rests_[static_cast<std::size_t>(i)].clear();
   b.sleep_counter = 0;
   ++counters_.wakes;
 }

@@ -75,6 +75,7 @@ World<T>::World(const Scene& scene) : scene_(scene), P_(Params<T>::from(scene.co
   }
   for (std::size_t k = 0; k < sdfs_.size(); ++k) sdfs_[k].values = sdf_values_[k].data();
   support_.assign(bodies_.size(), -1);
+  rests_.assign(bodies_.size(), {});
   support_n_.assign(bodies_.size(), Vec3<T>{});
 }
 
@@ -95,6 +96,7 @@ World<T>& World<T>::operator=(const World& other) {
   contacts_ = other.contacts_;
   warm_ = other.warm_;
   support_ = other.support_;
+  rests_ = other.rests_;
   support_n_ = other.support_n_;
   ground_y_ = other.ground_y_;
   ground_e_ = other.ground_e_;
@@ -112,7 +114,8 @@ void World<T>::step() {
   ++frame_;
   Num<T>::take_faults();
   integrate_velocities();                               // 1: eqs 1, 5, 6, 13
-  broad_phase();                                        // 2: eqs 31, 82, 83
+  if (scene_.effects.sleep) wake_unsupported();         // 2a: eq 108
+  broad_phase();                                        // 2: eqs 31, 82, 83, 107
   narrow_phase();                                       // 3-4: eqs 32-47, 84, 85, 93; wake eq 81
   solve_contacts();                                     // 5: eqs 48-62, 76, 86-88, 94-97
   if (scene_.effects.settling) settle();                // 6: eqs 64-75, 77

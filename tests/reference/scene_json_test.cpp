@@ -35,7 +35,7 @@ using json = nlohmann::json;
 // table), docs/SCENES.md and spec_for() below about it, then update the count.
 #if defined(__x86_64__) || defined(__aarch64__) || defined(_M_X64) || defined(_M_ARM64)
 static_assert(sizeof(Material) == 2 * sizeof(double), "Material changed: update scene_json");
-static_assert(sizeof(Constants) == (31 + 3) * 8, "Constants changed: update scene_json (31 doubles, 3 ints)");
+static_assert(sizeof(Constants) == (32 + 3) * 8, "Constants changed: update scene_json (32 doubles, 3 ints)");
 static_assert(sizeof(Effects) == 9, "Effects changed: update scene_json");
 static_assert(sizeof(BodyDesc) == 19 * 8 + 8, "BodyDesc changed: update scene_json");
 static_assert(sizeof(GroundDesc) == 4 * 8, "GroundDesc changed: update scene_json");
@@ -287,7 +287,7 @@ TEST(SceneJson, WriterPinsEveryField) {
   EXPECT_EQ(j.at("format"), "lockstep-scene");
   EXPECT_EQ(j.at("version"), 1);
   EXPECT_EQ(j.at("effects").size(), 9u);
-  EXPECT_EQ(j.at("constants").size(), 32u);
+  EXPECT_EQ(j.at("constants").size(), 33u);
   EXPECT_EQ(j.at("constants").at("solver_iterations"), 8);
   EXPECT_EQ(j.at("pair_contacts"), "oriented_box");
   EXPECT_TRUE(j.at("constants").at("solver_iterations").is_number_integer());
@@ -486,6 +486,7 @@ const std::map<std::string, Spec>& constant_ranges() {
       {"sleep_frames", {1, 100000, false, false, true}},
       {"wake_speed", {0, 100}},
       {"wake_penetration", {0, 10}},
+      {"wake_support_distance", {0, 10}},
   };
   return m;
 }
@@ -592,7 +593,7 @@ Scene random_scene() {
               D{"settle_damping", &c.settle_damping}, D{"sleep_linear", &c.sleep_linear},
               D{"sleep_angular", &c.sleep_angular}, D{"sleep_alignment", &c.sleep_alignment},
               D{"drowsy_damping", &c.drowsy_damping}, D{"wake_speed", &c.wake_speed},
-              D{"wake_penetration", &c.wake_penetration}}) {
+              D{"wake_penetration", &c.wake_penetration}, D{"wake_support_distance", &c.wake_support_distance}}) {
     maybe(*d.p, [&] { return gen_in(cr.at(d.n)); });
   }
   maybe(c.solver_iterations, [&] { return gen_int(cr.at("solver_iterations")); });

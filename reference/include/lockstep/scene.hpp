@@ -93,6 +93,7 @@ struct Constants {
   int sleep_frames = 30;                // 4.7, eq 80
   double wake_speed = 0.25;             // (m/s) 5.1, eq 81; above g*dt = 0.1635 so a resting neighbour does not wake a sleeper
   double wake_penetration = 0.02;       // (m) 5.1, eq 81
+  double wake_support_distance = 0.005; // (m) 5.1, eq 108: a sleeper wakes when a support point it rests on moves this far
 };
 
 // How a body pair touches (docs/SPEC.md 2.2, 2.4).

@@ -132,6 +132,8 @@ class World {
   void broad_phase();            // broad_phase.hpp
   void narrow_phase();           // narrow_phase.hpp
   void wake_touched(const std::vector<Contact<T>>& pair_contacts);  // sleep.hpp
+  void wake_unsupported();       // sleep.hpp (eq 108)
+  void record_supports(std::size_t i);  // sleep.hpp (eq 108)
   void solve_contacts();         // contact_solver.hpp
   void settle();                 // settle.hpp
   void correct_positions();      // contact_solver.hpp
@@ -153,6 +155,11 @@ class World {
   // eq 96: last frame's accumulated impulses, sorted by (a, b, feature).
   struct CachedImpulse { int a, b, feature; T j_n; };
   std::vector<CachedImpulse> warm_;
+  // eq 108: per sleeping body, the dynamic bodies it rested on when it fell
+  // asleep (at most kMaxRests, in contact order) and their support points.
+  struct Rest { int body; Vec3<T> local, rest; };
+  static constexpr int kMaxRests = 4;
+  std::vector<std::vector<Rest>> rests_;
   std::vector<int> support_;          // per body: index of its first support contact, -1 if none
   std::vector<Vec3<T>> support_n_;    // per body: its support normal (4.1), zero if none
   std::vector<Vec3<T>> corrected_from_;  // per body: its position before this frame's correction (eq 89 order)

@@ -88,4 +88,16 @@ LS_HD bool wake_test(const Vec3<T>& va, bool a_asleep, const Vec3<T>& vb, bool b
   return wakes(dot(v_rel, n), penetration, P);
 }
 
+// Eq 108: has a supporter moved under a sleeper? When a body falls asleep
+// (eq 80) it records, for each dynamic body it rests on, the support point in
+// that body's frame (`local`, from the touching contact's point) and where
+// that point was (`rest` = p + R local at that moment). While the supporter is
+// awake, the point it now carries is p + R local; the sleeper wakes when that
+// point has moved by more than wake_support_distance on any axis.
+template <class T>
+LS_HD bool support_moved(const Vec3<T>& p, const Mat3<T>& R, const Vec3<T>& local, const Vec3<T>& rest,
+                         const T& distance) {
+  return max_abs((p + R * local) - rest) > distance;
+}
+
 }  // namespace lockstep

@@ -30,6 +30,7 @@ struct Params {
   T sleep_small_radius, sleep_corner_speed;
   int drowsy_frames, sleep_frames;  // eqs 79-80
   T wake_speed, wake_penetration;   // eq 81
+  T wake_support_distance;          // eq 108
   T righting_min_axis;              // 2^-12: below it the righting axis (68) is undefined
 
   static Params from(const Constants& c) {
@@ -72,6 +73,7 @@ struct Params {
     p.sleep_frames = c.sleep_frames;
     p.wake_speed = n(c.wake_speed);
     p.wake_penetration = n(c.wake_penetration);
+    p.wake_support_distance = n(c.wake_support_distance);
     p.righting_min_axis = n(1.0 / 4096.0);
     return p;
   }
