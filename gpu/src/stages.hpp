@@ -1074,7 +1074,7 @@ struct CommitSleepK {
       int counter = b.sleep_counter[i];
       const bool supported = support_idx[i] != kNoSupport;
       const Vec3<float> up = supported ? xyz(support_n[i]) : Vec3<float>{0.0f, Num<float>::from_int(1), 0.0f};
-      asleep = update_sleep(v, w, counter, supported, R, up, length(xyz(b.half[i])), sc.P);
+      asleep = update_sleep(v, w, counter, supported, true, R, up, length(xyz(b.half[i])), sc.P);
       b.sleep_counter[i] = counter;
       b.vel[i] = f4(v, 0.0f);
       b.ang[i] = f4(w, 0.0f);

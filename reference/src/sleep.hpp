@@ -76,13 +76,26 @@ void World<T>::record_supports(std::size_t i) {
 
 template <class T>
 void World<T>::update_sleep() {
+  // eq 109: a body's support is resting when every dynamic body it rests on
+  // (the other sides of its support contacts, Part 4) is asleep as this stage
+  // starts; only then may it fall asleep, so a column falls asleep from the
+  // bottom up, one cube a frame, and no sleeper is left on a moving support.
+  resting_.assign(bodies_.size(), 1);
+  for (const Contact<T>& c : contacts_) {
+    if (c.b < 0 || !(c.penetration > -P_.slop)) continue;
+    const Body<T>& A = bodies_[static_cast<std::size_t>(c.a)];
+    const Body<T>& B = bodies_[static_cast<std::size_t>(c.b)];
+    if (c.n.y >= P_.support_normal_min && B.awake()) resting_[static_cast<std::size_t>(c.a)] = 0;
+    if (-c.n.y >= P_.support_normal_min && A.awake()) resting_[static_cast<std::size_t>(c.b)] = 0;
+  }
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     Body<T>& b = bodies_[i];
     if (!b.awake()) continue;
     ++counters_.sleep_updates;
     const bool supported = support_[i] >= 0;
     const Vec3<T> up = supported ? support_normal(i) : Vec3<T>{T{}, Num<T>::from_int(1), T{}};
-    if (lockstep::update_sleep(b.v, b.w, b.sleep_counter, supported, b.R, up, length(b.half), P_)) {  // eqs 78-80
+    if (lockstep::update_sleep(b.v, b.w, b.sleep_counter, supported, resting_[i] != 0, b.R, up, length(b.half),
+                               P_)) {  // eqs 78-80, 109
       b.asleep = true;
       b.sleep_frame = frame_;
       record_supports(i);

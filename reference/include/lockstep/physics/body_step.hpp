@@ -58,14 +58,19 @@ LS_HD void integrate_pose(Vec3<T>& p, Quat<T>& q, const Vec3<T>& v, const Vec3<T
 // `radius` its half-diagonal |h| (m).
 // Returns true when it falls asleep (v and w are then zeroed, eq 80).
 template <class T>
-LS_HD bool update_sleep(Vec3<T>& v, Vec3<T>& w, int& counter, bool supported, const Mat3<T>& R, const Vec3<T>& up,
-                        const T& radius, const Params<T>& P) {
+LS_HD bool update_sleep(Vec3<T>& v, Vec3<T>& w, int& counter, bool supported, bool support_resting, const Mat3<T>& R,
+                        const Vec3<T>& up, const T& radius, const Params<T>& P) {
   const T speed = length(v), spin = length(w);
   const Alignment<T> al = alignment_of(R, up);
   if (sleep_candidate(supported, speed, spin, al.alignment, radius, P)) ++counter;  // eq 78
   else counter = 0;
   switch (sleep_stage(counter, P.drowsy_frames, P.sleep_frames)) {
     case SleepStage::kAsleep:  // eq 80
+      if (!support_resting) {  // eq 109: wait, drowsy, for what holds it up to sleep first
+        v = v * P.drowsy_damping;
+        w = w * P.drowsy_damping;
+        return false;
+      }
       v = Vec3<T>{};
       w = Vec3<T>{};
       return true;
