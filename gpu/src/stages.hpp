@@ -977,7 +977,10 @@ struct CorrectIntegrateK {
       bool final = true;
       const float speed = sweep.linear(b, i, sc.P, vf, final);  // eqs 75, 77
       if (speed >= 0.0f) {
-        wf = settle_angular_velocity(wf, rotation_matrix(q0), xyz(ro(sweep.support_n + i)), speed, sc.P);  // eqs 64-74
+        const int s = ro(sweep.support_idx + i);
+        const bool immovable = !(s >= 0 && is_awake(ro(b.flags + s)));
+        wf = settle_angular_velocity(wf, rotation_matrix(q0), xyz(ro(sweep.support_n + i)), speed, immovable,
+                                     sc.P);  // eqs 64-74
         add_counter(&ctr[kCSettlingBodies], 1u);
       }
     }

@@ -30,10 +30,10 @@ void World<T>::settle() {
     const Contact<T>& c = contacts_[static_cast<std::size_t>(support_[i])];  // the first support: whose velocity (75) uses
     const Vec3<T> n = support_normal(i);
     const int other = c.a == idx ? c.b : c.a;
-    const Vec3<T> v_support = (other >= 0 && bodies_[static_cast<std::size_t>(other)].awake())
-                                  ? bodies_[static_cast<std::size_t>(other)].v : Vec3<T>{};
-    const T speed = settle_linear_velocity(b.v, v_support, n, P_);  // eqs 75, 77
-    b.w = settle_angular_velocity(b.w, b.R, n, speed, P_);          // eqs 64-74, up = support normal
+    const bool movable = other >= 0 && bodies_[static_cast<std::size_t>(other)].awake();
+    const Vec3<T> v_support = movable ? bodies_[static_cast<std::size_t>(other)].v : Vec3<T>{};
+    const T speed = settle_linear_velocity(b.v, v_support, n, P_);       // eqs 75, 77
+    b.w = settle_angular_velocity(b.w, b.R, n, speed, !movable, P_);     // eqs 64-74, up = support normal
     check_faults(idx, "settling");
   }
 }

@@ -24,26 +24,28 @@ LS_HD void integrate_velocity(Vec3<T>& v, Vec3<T>& w, bool gravity, bool damping
 }
 
 // Stage 6 for one supported awake body, linear part: eq 75 against the
-// support's velocity v_support (0 for an immovable support), then |v|, then
-// eq 77. n is the body's support normal (4.1). Returns |v| after eq 75, the
-// speed that righting (eqs 67-71) uses.
+// support's velocity v_support (0 for an immovable support), then eq 77 on
+// the velocity relative to it. n is the body's support normal (4.1). Returns
+// |v - v_support| after eq 75, the speed that righting (eqs 67-71) uses.
 template <class T>
 LS_HD T settle_linear_velocity(Vec3<T>& v, const Vec3<T>& v_support, const Vec3<T>& n, const Params<T>& P) {
   v = cancel_resting_velocity(v, v_support, n, P.rest_speed);  // eq 75
-  const T speed = length(v);
-  v = settle_linear(v, speed, P);  // eq 77
+  const Vec3<T> rel = v - v_support;
+  const T speed = length(rel);
+  v = v_support + settle_linear(rel, speed, P);  // eq 77, relative to the support
   return speed;
 }
 
-// Stage 6, angular part: righting (eqs 64-71, 65 fixed) and the damping
-// regimes (eqs 72-74), "up" being the support normal n; `speed` is what
-// settle_linear_velocity returned.
+// Stage 6, angular part: righting (eqs 64-71, 65 fixed) and, on an immovable
+// support only (`immovable`: ground, SDF, static or sleeping body), the
+// damping regimes (eqs 72-74), "up" being the support normal n; `speed` is
+// what settle_linear_velocity returned.
 template <class T>
 LS_HD Vec3<T> settle_angular_velocity(const Vec3<T>& w, const Mat3<T>& R, const Vec3<T>& n, const T& speed,
-                                      const Params<T>& P) {
+                                      bool immovable, const Params<T>& P) {
   const Alignment<T> al = alignment_of(R, n);       // eqs 64-66 (65 fixed)
   const Vec3<T> w1 = righting(w, al, n, speed, P);  // eqs 67-71
-  return regime_damping(w1, al.alignment, P);       // eqs 72-74
+  return immovable ? regime_damping(w1, al.alignment, P) : w1;  // eqs 72-74
 }
 
 // Stage 8 (eqs 2, 7-10) for one awake body.
