@@ -1,6 +1,9 @@
 // Stages 2a, 4 and 9 of docs/SPEC.md 7.2: wake (5.1, eqs 81, 108) and sleep
 // (4.7, eqs 78-80).
 #pragma once
+#include <algorithm>
+#include <utility>
+#include <vector>
 #include "lockstep/physics/body_step.hpp"
 #include "lockstep/world.hpp"
 
@@ -76,31 +79,52 @@ void World<T>::record_supports(std::size_t i) {
 
 template <class T>
 void World<T>::update_sleep() {
-  // eq 109: a body's support is resting when every dynamic body it rests on
-  // (the other sides of its support contacts, Part 4) is asleep as this stage
-  // starts; only then may it fall asleep, so a column falls asleep from the
-  // bottom up, one cube a frame, and no sleeper is left on a moving support.
-  resting_.assign(bodies_.size(), 1);
-  for (const Contact<T>& c : contacts_) {
-    if (c.b < 0 || !(c.penetration > -P_.slop)) continue;
-    const Body<T>& A = bodies_[static_cast<std::size_t>(c.a)];
-    const Body<T>& B = bodies_[static_cast<std::size_t>(c.b)];
-    if (c.n.y >= P_.support_normal_min && B.awake()) resting_[static_cast<std::size_t>(c.a)] = 0;
-    if (-c.n.y >= P_.support_normal_min && A.awake()) resting_[static_cast<std::size_t>(c.b)] = 0;
-  }
+  // Eqs 78-79 for every awake body, index order; a body whose counter reaches
+  // sleep_frames is ready (eq 80) but stays drowsy until eq 109 lets it sleep.
+  std::vector<int>& ready = order_;
+  ready.clear();
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     Body<T>& b = bodies_[i];
     if (!b.awake()) continue;
     ++counters_.sleep_updates;
     const bool supported = support_[i] >= 0;
     const Vec3<T> up = supported ? support_normal(i) : Vec3<T>{T{}, Num<T>::from_int(1), T{}};
-    if (lockstep::update_sleep(b.v, b.w, b.sleep_counter, supported, resting_[i] != 0, b.R, up, length(b.half),
-                               P_)) {  // eqs 78-80, 109
-      b.asleep = true;
-      b.sleep_frame = frame_;
-      record_supports(i);
-    }
+    lockstep::update_sleep(b.v, b.w, b.sleep_counter, supported, false, b.R, up, length(b.half), P_);  // eqs 78-79
+    if (b.sleep_counter >= P_.sleep_frames) ready.push_back(static_cast<int>(i));
     check_faults(static_cast<int>(i), "sleep");
+  }
+  // eq 109: the ready bodies in ascending (p.y, index) order; one falls
+  // asleep (eq 80) when every dynamic body it rests on (the other sides of
+  // its support contacts, Part 4) is asleep, those put to sleep earlier in
+  // this pass included. A still column falls asleep at once, from the bottom
+  // up, and no sleeper is left on a moving support.
+  if (ready.empty()) return;
+  std::sort(ready.begin(), ready.end(), [&](int a, int b) {
+    const T& ya = bodies_[static_cast<std::size_t>(a)].p.y;
+    const T& yb = bodies_[static_cast<std::size_t>(b)].p.y;
+    return ya != yb ? ya < yb : a < b;
+  });
+  // (supported body, dynamic supporter) of every touching body-pair support contact.
+  std::vector<std::pair<int, int>>& rests_on = rests_on_;
+  rests_on.clear();
+  for (const Contact<T>& c : contacts_) {
+    if (c.b < 0 || !(c.penetration > -P_.slop)) continue;
+    if (c.n.y >= P_.support_normal_min) rests_on.emplace_back(c.a, c.b);
+    if (-c.n.y >= P_.support_normal_min) rests_on.emplace_back(c.b, c.a);
+  }
+  std::sort(rests_on.begin(), rests_on.end());
+  for (int idx : ready) {
+    const auto i = static_cast<std::size_t>(idx);
+    bool resting = true;
+    for (auto it = std::lower_bound(rests_on.begin(), rests_on.end(), std::pair<int, int>{idx, -1});
+         it != rests_on.end() && it->first == idx; ++it)
+      resting = resting && !bodies_[static_cast<std::size_t>(it->second)].awake();
+    if (!resting) continue;
+    Body<T>& b = bodies_[i];
+    b.v = b.w = Vec3<T>{};  // eq 80
+    b.asleep = true;
+    b.sleep_frame = frame_;
+    record_supports(i);
   }
 }
 

@@ -161,7 +161,7 @@ class World {
   static constexpr int kMaxRests = 4;
   std::vector<std::vector<Rest>> rests_;
   std::vector<int> support_;          // per body: index of its first support contact, -1 if none
-  std::vector<unsigned char> resting_;  // per body, in stage 9: every dynamic body it rests on is asleep (eq 109)
+  std::vector<std::pair<int, int>> rests_on_;  // stage 9 scratch: (body, dynamic body it rests on), sorted (eq 109)
   std::vector<Vec3<T>> support_n_;    // per body: its support normal (4.1), zero if none
   std::vector<Vec3<T>> corrected_from_;  // per body: its position before this frame's correction (eq 89 order)
   std::vector<int> order_;            // eq 110: the pair contacts that correct, bottom up
