@@ -919,7 +919,7 @@ struct SettleSweep {
         v_s = xyz(ro(vpost + s));
       }
     }
-    return settle_linear_velocity(v, v_s, xyz(ro(support_n + i)), P);  // eqs 75, 77
+    return settle_linear_velocity(v, v_s, xyz(ro(support_n + i)), P, false);  // eqs 75, 77 (AABB model)
   }
 };
 
@@ -977,10 +977,8 @@ struct CorrectIntegrateK {
       bool final = true;
       const float speed = sweep.linear(b, i, sc.P, vf, final);  // eqs 75, 77
       if (speed >= 0.0f) {
-        const int s = ro(sweep.support_idx + i);
-        const bool immovable = !(s >= 0 && is_awake(ro(b.flags + s)));
-        wf = settle_angular_velocity(wf, rotation_matrix(q0), xyz(ro(sweep.support_n + i)), speed, immovable,
-                                     sc.P);  // eqs 64-74
+        wf = settle_angular_velocity(wf, rotation_matrix(q0), xyz(ro(sweep.support_n + i)), speed, true,
+                                     sc.P);  // eqs 64-74 (AABB model: regimes on every support)
         add_counter(&ctr[kCSettlingBodies], 1u);
       }
     }

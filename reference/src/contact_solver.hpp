@@ -91,12 +91,13 @@ void World<T>::solve_contacts() {
     visits.emplace_back(s, e);
     s = e;
   }
-  // 7.2 step 5: even passes visit the list in order, odd passes in reverse
-  // (symmetric Gauss-Seidel), so an impact on top of a stack reaches the
-  // ground within one pass and the ground's answer climbs back in the next.
+  // 7.2 step 5 (oriented-box model): even passes visit the list in order,
+  // odd passes in reverse (symmetric Gauss-Seidel), so an impact on top of a
+  // stack reaches the ground within one pass and the ground's answer climbs
+  // back in the next. The source's AABB model: every pass in order.
   for (int it = 0; it < P_.solver_iterations; ++it) {
     for (std::size_t vi = 0; vi < visits.size(); ++vi) {
-      const auto [s, e] = visits[(it & 1) ? visits.size() - 1 - vi : vi];
+      const auto [s, e] = visits[(oriented && (it & 1)) ? visits.size() - 1 - vi : vi];
       const bool manifold = contacts_[s].b < 0 || oriented;
       const int ia = contacts_[s].a, ib = contacts_[s].b;
       BodyView<T> A = solver::view_of(bodies_, ia);

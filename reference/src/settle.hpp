@@ -23,6 +23,7 @@ void World<T>::settle() {
     const T& yb = bodies_[static_cast<std::size_t>(b)].p.y;
     return ya != yb ? ya < yb : a < b;
   });
+  const bool oriented = scene_.pair_contacts == PairModel::kOrientedBox;
   for (int idx : order) {
     const auto i = static_cast<std::size_t>(idx);
     Body<T>& b = bodies_[i];
@@ -32,8 +33,10 @@ void World<T>::settle() {
     const int other = c.a == idx ? c.b : c.a;
     const bool movable = other >= 0 && bodies_[static_cast<std::size_t>(other)].awake();
     const Vec3<T> v_support = movable ? bodies_[static_cast<std::size_t>(other)].v : Vec3<T>{};
-    const T speed = settle_linear_velocity(b.v, v_support, n, P_);       // eqs 75, 77
-    b.w = settle_angular_velocity(b.w, b.R, n, speed, !movable, P_);     // eqs 64-74, up = support normal
+    // The oriented-box model settles relative to the support (eq 77) and damps
+    // spin (eqs 72-74) on immovable supports only; the AABB model as the source.
+    const T speed = settle_linear_velocity(b.v, v_support, n, P_, oriented);   // eqs 75, 77
+    b.w = settle_angular_velocity(b.w, b.R, n, speed, !(oriented && movable), P_);  // eqs 64-74, up = support normal
     check_faults(idx, "settling");
   }
 }

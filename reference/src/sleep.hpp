@@ -79,8 +79,11 @@ void World<T>::record_supports(std::size_t i) {
 
 template <class T>
 void World<T>::update_sleep() {
-  // Eqs 78-79 for every awake body, index order; a body whose counter reaches
-  // sleep_frames is ready (eq 80) but stays drowsy until eq 109 lets it sleep.
+  // Eqs 78-79 for every awake body, index order. With the source's AABB
+  // model a body whose counter reaches sleep_frames falls asleep at once (eq
+  // 80); with the oriented-box model it is ready but stays drowsy until eq
+  // 109 lets it sleep.
+  const bool oriented = scene_.pair_contacts == PairModel::kOrientedBox;
   std::vector<int>& ready = order_;
   ready.clear();
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
@@ -89,8 +92,13 @@ void World<T>::update_sleep() {
     ++counters_.sleep_updates;
     const bool supported = support_[i] >= 0;
     const Vec3<T> up = supported ? support_normal(i) : Vec3<T>{T{}, Num<T>::from_int(1), T{}};
-    lockstep::update_sleep(b.v, b.w, b.sleep_counter, supported, false, b.R, up, length(b.half), P_);  // eqs 78-79
-    if (b.sleep_counter >= P_.sleep_frames) ready.push_back(static_cast<int>(i));
+    if (lockstep::update_sleep(b.v, b.w, b.sleep_counter, supported, !oriented, b.R, up, length(b.half),
+                               P_)) {  // eqs 78-80
+      b.asleep = true;
+      b.sleep_frame = frame_;
+    } else if (b.sleep_counter >= P_.sleep_frames) {
+      ready.push_back(static_cast<int>(i));
+    }
     check_faults(static_cast<int>(i), "sleep");
   }
   // eq 109: the ready bodies in ascending (p.y, index) order; one falls

@@ -114,7 +114,8 @@ void World<T>::step() {
   ++frame_;
   Num<T>::take_faults();
   integrate_velocities();                               // 1: eqs 1, 5, 6, 13
-  if (scene_.effects.sleep) wake_unsupported();         // 2a: eq 108
+  const bool oriented = scene_.pair_contacts == PairModel::kOrientedBox;
+  if (scene_.effects.sleep && oriented) wake_unsupported();  // 2a: eq 108
   broad_phase();                                        // 2: eqs 31, 82, 83, 107
   narrow_phase();                                       // 3-4: eqs 32-47, 84, 85, 93; wake eq 81
   solve_contacts();                                     // 5: eqs 48-62, 76, 86-88, 94-97
