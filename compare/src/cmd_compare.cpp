@@ -41,7 +41,11 @@ int compare_command(const std::vector<std::string>& argv) {
     throw std::invalid_argument("compare takes one SCENE; got " + std::to_string(args.positional.size()));
   Scene scene = resolve_scene(args.positional.empty() ? "" : args.positional[0]);
   scene.frames = static_cast<int>(args.get_int("--frames", scene.frames, 0, 10'000'000));
-  const std::vector<std::string> engines = split_engines(args.get("--engines", join(engine_names())));
+  if (args.get("--engines", "").empty())
+    for (const std::string& e : engine_names())
+      if (const std::string why = engine_limitation(e, scene); !why.empty())
+        std::fprintf(stderr, "lockstep compare: %s is left out: %s\n", e.c_str(), why.c_str());
+  const std::vector<std::string> engines = split_engines(args.get("--engines", join(engine_names_for(scene))));
   for (const std::string& e : engines) {
     const auto all = accepted_engine_names();
     if (std::find(all.begin(), all.end(), e) == all.end())

@@ -159,7 +159,8 @@ void World<T>::correct_positions() {
     Vec3<T>& pb = B != nullptr ? B->p : ground_p;
     Vec3<T> moved = A.p - corrected_from_[static_cast<std::size_t>(c.a)];
     if (B != nullptr) moved -= B->p - corrected_from_[static_cast<std::size_t>(c.b)];
-    const T pen = (B != nullptr && !oriented_correction_) ? c.penetration : c.penetration - dot(moved, c.n);
+    const T pen = (B != nullptr && !oriented_correction_) ? c.penetration
+                                                            : (B != nullptr ? c.correct_depth : c.penetration) - dot(moved, c.n);
     baumgarte_correction(A.p, pb, c.n, pen, inv_a, inv_b, P_.slop, P_.baumgarte);  // eqs 63, 89
     ++counters_.corrections;
     check_faults(c.a, "position correction");
@@ -177,7 +178,8 @@ void World<T>::correct_positions() {
     return;
   }
   // eq 110 (oriented-box model): the world first (ground and SDF contacts, in
-  // contact order), then the body pairs from the bottom up: in ascending
+  // contact order), then the body pairs, each by the mean depth of its
+  // points (correct_depth), from the bottom up: in ascending
   // (y of the lower side before this stage, contact index) order. A support
   // pair (|n.y| >= support_normal_min) moves only its upper side, by the
   // whole correction, so a stack is set right in one pass from the ground up

@@ -47,7 +47,15 @@ void World<T>::narrow_phase() {
         pair_contacts.push_back(c);
         ++counters_.body_contacts;
       }
-      if (deepest >= 0) pair_contacts[first + static_cast<std::size_t>(deepest)].corrects = true;
+      if (deepest >= 0) {
+        // eq 110: the pair is corrected by the mean depth of its points (a
+        // tilted box resting on one corner is not lifted by that corner).
+        T sum{};
+        for (int k = 0; k < m.count; ++k) sum += m.penetration[k];
+        Contact<T>& d = pair_contacts[first + static_cast<std::size_t>(deepest)];
+        d.correct_depth = sum / Num<T>::from_int(m.count);
+        d.corrects = true;
+      }
       continue;
     }
     const PairContact<T> pc = pair_contact(A.p, A.aabb_half, B.p, B.aabb_half, half_tol, tol);

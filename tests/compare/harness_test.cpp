@@ -337,7 +337,8 @@ TEST(EngineNames, VariantsAreAcceptedOnRequestOnly) {
   const bool gpu = std::find(listed.begin(), listed.end(), "gpu") != listed.end();
   EXPECT_EQ(std::find(listed.begin(), listed.end(), "gpu-jacobi"), listed.end());
   EXPECT_EQ(std::find(accepted.begin(), accepted.end(), "gpu-jacobi") != accepted.end(), gpu);
-  const Scene scene = *builtin_scene("stack5");
+  Scene scene = *builtin_scene("stack5");
+  scene.pair_contacts = PairModel::kAabb;  // a model every engine runs
   for (const std::string& name : accepted) EXPECT_EQ(make_engine(name, scene)->name(), name);
   try {
     make_engine("gpu-gauss", scene);
@@ -345,6 +346,26 @@ TEST(EngineNames, VariantsAreAcceptedOnRequestOnly) {
   } catch (const std::invalid_argument& e) {
     for (const std::string& name : accepted) EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << name;
   }
+}
+
+// An engine that does not implement the scene's pair model is refused with a
+// clear error naming the model and the fix, and left out of the default lists.
+TEST(EngineNames, AnEngineWithoutThePairModelIsRefusedAndLeftOut) {
+  const Scene scene = *builtin_scene("stack5");  // oriented_box: the CPU engines only
+  const std::vector<std::string> listed = engine_names(), runnable = engine_names_for(scene);
+  for (const std::string& name : listed) {
+    const std::string why = engine_limitation(name, scene);
+    EXPECT_EQ(std::find(runnable.begin(), runnable.end(), name) != runnable.end(), why.empty()) << name;
+    if (why.empty()) continue;
+    EXPECT_NE(why.find("\"pair_contacts\": \"aabb\""), std::string::npos) << why;
+    try {
+      make_engine(name, scene);
+      FAIL() << name << " accepted a scene it cannot run";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_EQ(std::string(e.what()), why);
+    }
+  }
+  for (const char* cpu : {"fixed", "float", "double", "mp"}) EXPECT_EQ(engine_limitation(cpu, scene), "") << cpu;
 }
 
 }  // namespace

@@ -65,6 +65,7 @@ TEST(GpuHost, SingleBodyScenesMatchWorldFloatBitForBit) {
 TEST(GpuHost, StacksMatchWorldFloatBitForBit) {
   auto tower = [](int n, double gap) {
     Scene s;
+    s.pair_contacts = PairModel::kAabb;  // the GPU engine's model
     s.name = "tower" + std::to_string(n);
     s.frames = 300;
     s.effects.sdf = false;
@@ -76,6 +77,7 @@ TEST(GpuHost, StacksMatchWorldFloatBitForBit) {
     return s;
   };
   Scene heavy_on_light;
+  heavy_on_light.pair_contacts = PairModel::kAabb;  // the GPU engine's model
   heavy_on_light.name = "heavy_on_light";
   heavy_on_light.frames = 300;
   heavy_on_light.effects.sdf = false;

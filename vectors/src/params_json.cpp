@@ -46,6 +46,7 @@ const std::vector<ConstantField>& constant_fields() {
       {"sleep_frames", nullptr, nullptr, &Constants::sleep_frames},
       {"wake_speed", &Constants::wake_speed, nullptr, nullptr},
       {"wake_penetration", &Constants::wake_penetration, nullptr, nullptr},
+      {"wake_support_distance", &Constants::wake_support_distance, nullptr, nullptr},
   };
   return f;
 }
@@ -91,6 +92,7 @@ const std::vector<ParamField>& param_fields() {
       {"sleep_frames", nullptr, nullptr, &P::sleep_frames},
       {"wake_speed", &P::wake_speed, nullptr, nullptr},
       {"wake_penetration", &P::wake_penetration, nullptr, nullptr},
+      {"wake_support_distance", &P::wake_support_distance, nullptr, nullptr},
       {"righting_min_axis", &P::righting_min_axis, nullptr, nullptr},
   };
   return f;

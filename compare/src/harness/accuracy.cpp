@@ -67,8 +67,14 @@ std::vector<AccuracyRow> measure_accuracy(const Scene& scene, const std::vector<
   truth.reserve(static_cast<std::size_t>(frames) * static_cast<std::size_t>(bodies));
   std::vector<AccuracyRow> rows;
   std::vector<std::string> order{kTruthEngine};
-  for (const std::string& e : engines)
-    if (e != kTruthEngine) order.push_back(e);
+  for (const std::string& e : engines) {
+    if (e == kTruthEngine) continue;
+    if (const std::string why = engine_limitation(e, scene); !why.empty()) {
+      log("  " + scene.name + ": " + e + " left out: " + why);
+      continue;
+    }
+    order.push_back(e);
+  }
   for (const std::string& name : order) {
     log("  " + scene.name + ": " + name + ", " + std::to_string(frames) + " frames");
     std::unique_ptr<EngineRun> e = make_engine(name, scene);

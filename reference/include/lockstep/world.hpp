@@ -71,6 +71,7 @@ struct Contact {
   Vec3<T> n, point;
   T penetration{};
   bool corrects = true;  // carries the body's position correction (eq 89)
+  T correct_depth{};     // eq 110: the depth (m) a box-box pair is corrected by: the mean of its points' depths
   int feature = 0;       // which point of the pair: ground corner k, SDF sample s, 0 for body pairs (eq 96)
   // Solver state (eqs 94-96), set when the solve starts.
   Vec3<T> r1, r2;        // lever arms c - p (eq 48, m)

@@ -60,7 +60,15 @@ std::vector<std::string> engine_names();
 std::vector<std::string> engine_variants();
 // engine_names() then engine_variants(): every name make_engine accepts.
 std::vector<std::string> accepted_engine_names();
-// Throws std::invalid_argument naming the allowed engines.
+// Why engine `name` cannot run `scene` ("" when it can): the GPU engine
+// implements the source's "pair_contacts": "aabb" model only; the
+// oriented-box model (docs/SPEC.md 2.4) runs on the CPU engines (docs/GPU.md
+// "Pair models").
+std::string engine_limitation(std::string_view name, const Scene& scene);
+// engine_names() less those with a limitation for `scene`.
+std::vector<std::string> engine_names_for(const Scene& scene);
+// Throws std::invalid_argument naming the allowed engines, or the engine's
+// limitation for this scene.
 std::unique_ptr<EngineRun> make_engine(std::string_view name, const Scene& scene);
 
 // The CPU engines: a World<T> behind EngineRun.
