@@ -1,5 +1,6 @@
 // The fixed engine repeats bit for bit: two runs, and a run saved and restored
 // mid-way, give the same per-frame hashes (eq 92).
+#include "lockstep/builtin_scenes.hpp"
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
@@ -57,8 +58,12 @@ RC_GTEST_PROP(DeterminismTest, SaveAndRestoreMidRunGivesTheSameHashes, ()) {
 // Box2D-style pinned determinism: the hash of the single-drop scene at the
 // frame where it falls asleep. A change of any bit of the fixed engine moves
 // it; update it only for an intended physics change (and regenerate vectors/).
-constexpr int kPinnedSleepFrame = 85;
-constexpr std::uint64_t kPinnedHash = 0xbfc4b13788e2c0c5ull;
+constexpr int kPinnedSleepFrame = 93;
+constexpr int kPinnedOrientedStackFrame = 30;
+constexpr std::uint64_t kPinnedOrientedStackHash = 0xf4039fbb1cc286ffull;
+constexpr int kPinnedAabbStackFrame = 30;
+constexpr std::uint64_t kPinnedAabbStackHash = 0xc8e0c915f91a56c6ull;
+constexpr std::uint64_t kPinnedHash = 0x3c74ba66b00ea05ull;
 TEST(DeterminismTest, PinnedDropHashAndSleepFrame) {
   Scene s;
   BodyDesc b = unit_cube(0, 2, 0);
@@ -68,6 +73,27 @@ TEST(DeterminismTest, PinnedDropHashAndSleepFrame) {
   while (!w.all_asleep() && w.frame() < 600) w.step();
   EXPECT_EQ(w.frame(), kPinnedSleepFrame);
   EXPECT_EQ(w.state_hash(), kPinnedHash);
+}
+
+// Each pair model has its own pinned hash (Box2D style: the state hash of
+// the frame the scene falls asleep, and that frame): pyramid, on the fixed
+// engine, with the oriented-box model (the default, docs/SPEC.md 2.4) and
+// with the source's AABB model.
+std::pair<int, std::uint64_t> pyramid_asleep(PairModel model) {
+  Scene s = *builtin_scene("pyramid");
+  s.pair_contacts = model;
+  World<Q16> w(s);
+  while (!w.all_asleep() && w.frame() < s.frames) w.step();
+  return {w.frame(), w.state_hash()};
+}
+
+TEST(DeterminismTest, PinnedStackHashPerPairModel) {
+  const auto oriented = pyramid_asleep(PairModel::kOrientedBox);
+  EXPECT_EQ(oriented.first, kPinnedOrientedStackFrame);
+  EXPECT_EQ(oriented.second, kPinnedOrientedStackHash) << std::hex << oriented.second;
+  const auto aabb = pyramid_asleep(PairModel::kAabb);
+  EXPECT_EQ(aabb.first, kPinnedAabbStackFrame);
+  EXPECT_EQ(aabb.second, kPinnedAabbStackHash) << std::hex << aabb.second;
 }
 
 }  // namespace
