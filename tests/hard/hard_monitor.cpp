@@ -1,5 +1,7 @@
 #include "hard_monitor.hpp"
 
+#include "lockstep/physics/box_box.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -127,6 +129,35 @@ Monitor::ContactView Monitor::contacts_of(const std::vector<BodySnapshot>& s, co
         double overlap[3];
         for (int k = 0; k < 3; ++k) overlap[k] = g[i].aabb_half[k] + g[j].aabb_half[k] - std::fabs(s[i].p[k] - s[j].p[k]);
         if (!(overlap[0] > -tol && overlap[1] > -tol && overlap[2] > -tol)) continue;
+        if (scene_.pair_contacts == PairModel::kOrientedBox) {
+          // The oriented-box model (eqs 100-110): the manifold's normal and
+          // depths; its correction can lift the side the normal points to by
+          // at most the deepest point's depth times n.y.
+          const std::size_t a_ = std::min(i, j), b_ = std::max(i, j);
+          auto mat = [&](std::size_t k) {
+            Mat3<double> R;
+            for (int r = 0; r < 3; ++r) R.row[r] = {g[k].R[r][0], g[k].R[r][1], g[k].R[r][2]};
+            return R;
+          };
+          auto vec = [](const double* v) { return Vec3<double>{v[0], v[1], v[2]}; };
+          auto half = [&](std::size_t k) {
+            const Vec3d& h = scene_.bodies[k].half_extents;
+            return Vec3<double>{h.x, h.y, h.z};
+          };
+          const BoxManifold<double> m =
+              box_box_manifold(vec(s[a_].p), mat(a_), half(a_), vec(s[b_].p), mat(b_), half(b_), tol);
+          if (m.count == 0) continue;
+          view.touching[i] = view.touching[j] = 1;
+          double deepest = m.penetration[0];
+          for (int k = 1; k < m.count; ++k) deepest = std::max(deepest, m.penetration[k]);
+          if (deepest <= 0.0) continue;
+          view.deepest_pair = std::max(view.deepest_pair, deepest);
+          if (m.n.y == 0.0) continue;
+          const std::size_t upper = m.n.y > 0.0 ? a_ : b_, lower = m.n.y > 0.0 ? b_ : a_;
+          view.lift[upper] = std::max(view.lift[upper], deepest * std::fabs(m.n.y));
+          view.load[lower] = std::max(view.load[lower], deepest);
+          continue;
+        }
         view.touching[i] = view.touching[j] = 1;
         const double pen = std::min(overlap[0], std::min(overlap[1], overlap[2]));  // < 0: a gap
         if (pen <= 0.0) continue;

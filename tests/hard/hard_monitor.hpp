@@ -7,8 +7,10 @@
 //    allowance of docs/HARD_CASES.md:
 //      E(n) <= E(0) + C(n) + S(n) + W(n) + tol
 //    C(n): per body, m |g| max(0, D - slop) * baumgarte, D the deepest
-//          penetration of a contact whose correction (eqs 63, 89) lifts it
-//          (the ground; a body-body contact along y, for the upper body) in
+//          penetration of a contact whose correction (eqs 63, 89, 110) lifts
+//          it (the ground; a body-body contact along y, for the upper body;
+//          with the oriented-box model, eqs 100-106, the pair manifold's
+//          deepest point times |n_y|, for the side n points to) in
 //          frames 1..n, measured on the state each frame starts from (what
 //          its narrow phase sees): one lift out of the deepest penetration;
 //    S(n): per body, 1/2 I_max w_d^2, w_d = kp * max(speed_factor_min,
