@@ -126,6 +126,37 @@ TYPED_TEST(AnalyticTest, SlidingDistance) {
   EXPECT_LT(std::fabs(d(w.body(0).v.x)), 0.05);
 }
 
+// C.3 on a body pair: the same cube sliding on a static box (10 x 1 x 10 m,
+// top at y = 1) stops where the ground's friction stops it,
+// d = v0^2 / (2 mu g), within the ground test's 5 % (eqs 95, 99-105: the
+// pair's manifold carries the friction as the ground's corners do); also with
+// the box turned 30 degrees about y, so the friction does not ride on the
+// world axes.
+TYPED_TEST(AnalyticTest, SlidingDistanceOnAStaticBox) {
+  using T = TypeParam;
+  for (const double yaw : {0.0, 0.5235987755982988}) {
+    Scene s = bare_scene();
+    s.effects.gravity = s.effects.contacts = s.effects.friction = true;
+    BodyDesc box = unit_cube(0, 0.5, 0);
+    box.half_extents = {5.0, 0.5, 5.0};
+    box.is_static = true;
+    box.orientation = {std::cos(yaw / 2), 0, std::sin(yaw / 2), 0};
+    box.material = {0.0, 0.5};
+    BodyDesc b = unit_cube(-1.0, 1.5, 0);
+    b.orientation = box.orientation;
+    b.material = {0.0, 0.5};
+    b.velocity = {4.0, 0, 0};
+    s.bodies = {box, b};
+    World<T> w(s);
+    for (int n = 0; n < 90; ++n) w.step();
+    const double expected = 16.0 / (2 * 0.5 * 9.81);
+    EXPECT_NEAR(d(w.body(1).p.x) + 1.0, expected, 0.05 * expected) << "yaw " << yaw;
+    EXPECT_NEAR(d(w.body(1).p.z), 0.0, 0.01) << "yaw " << yaw;
+    EXPECT_NEAR(d(w.body(1).p.y), 1.5, 0.005) << "yaw " << yaw;
+    EXPECT_LT(std::fabs(d(w.body(1).v.x)), 0.05) << "yaw " << yaw;
+  }
+}
+
 template <class T>
 double alignment(const World<T>& w, int i) {
   return d(alignment_of(w.body(i).R, Vec3<T>{T{}, Num<T>::from_int(1), T{}}).alignment);

@@ -6,10 +6,12 @@
 #include <rapidcheck/gtest.h>
 
 #include <cmath>
+#include <iomanip>
 #include <set>
 
 #include "engine_types.hpp"
 #include "lockstep/physics/box_box.hpp"
+#include "lockstep/scene_json.hpp"
 
 namespace lockstep::test {
 namespace {
@@ -118,9 +120,11 @@ TEST(BoxBoxQ16, RangeEdgesRaiseNoFault) {
   EXPECT_EQ(Num<Q16>::take_faults(), 0u);
 }
 
-// Random poses: every engine type finds the same kind of contact as mp
-// (count, normal within 1e-3, each point and depth within the type's
-// tolerance) whenever mp's winning axis is clear of the others.
+// Random poses: double finds the same contact as mp (count, normal and
+// deepest depth within 1e-9) except within rounding of a tie, and every point
+// of both lies between the two boxes. (Which of several nearly equivalent
+// clip points eq 105 keeps may differ by a rounding; the hand-made cases
+// above pin points and feature ids.)
 RC_GTEST_PROP(BoxBoxProp, EveryTypeAgreesWithMp, ()) {
   auto real = [](double lo, double hi) { return lo + (hi - lo) * *rc::gen::inRange(0, 1000001) / 1e6; };
   const double ha[3] = {real(0.1, 1), real(0.1, 1), real(0.1, 1)}, hb[3] = {real(0.1, 1), real(0.1, 1), real(0.1, 1)};
@@ -128,7 +132,7 @@ RC_GTEST_PROP(BoxBoxProp, EveryTypeAgreesWithMp, ()) {
   const double ab[4] = {real(-M_PI, M_PI), real(-1, 1), real(-1, 1), real(-1, 1)};
   RC_PRE(std::fabs(aa[1]) + std::fabs(aa[2]) + std::fabs(aa[3]) > 0.1 &&
          std::fabs(ab[1]) + std::fabs(ab[2]) + std::fabs(ab[3]) > 0.1);
-  const double pb[3] = {real(-1.5, 1.5), real(-1.5, 1.5), real(-1.5, 1.5)};
+  double pb[3] = {real(-1.5, 1.5), real(-1.5, 1.5), real(-1.5, 1.5)};
   auto run = [&](auto zero) {
     using T = decltype(zero);
     return box_box_manifold(v3<T>(0.25, -0.5, 0.125), rot<T>(aa[0], aa[1], aa[2], aa[3]), v3<T>(ha[0], ha[1], ha[2]),
@@ -136,15 +140,29 @@ RC_GTEST_PROP(BoxBoxProp, EveryTypeAgreesWithMp, ()) {
                             Num<T>::from_double(0.01));
   };
   const BoxManifold<Mp> ref = run(Mp{});
+  // A pose within rounding of a tie (two axes, or a corner on a side plane)
+  // may be decided either way by a rounding: such poses are those where mp
+  // itself decides differently for b moved by 1e-9 m; they are left out.
+  const double pb0[3] = {pb[0], pb[1], pb[2]};
+  for (const double nudge : {1e-9, -1e-9}) {
+    for (int a = 0; a < 3; ++a) pb[a] = pb0[a] + nudge;
+    const BoxManifold<Mp> near = run(Mp{});
+    for (int a = 0; a < 3; ++a) pb[a] = pb0[a];
+    RC_PRE(near.count == ref.count);
+    for (int k = 0; k < ref.count; ++k) RC_PRE(near.feature[k] == ref.feature[k]);
+  }
   const BoxManifold<double> md = run(0.0);
   RC_ASSERT(md.count == ref.count);
-  for (int k = 0; k < ref.count; ++k) {
-    RC_ASSERT(md.feature[k] == ref.feature[k]);
-    RC_ASSERT(std::fabs(md.penetration[k] - d(ref.penetration[k])) < 1e-9);
-    for (int a = 0; a < 3; ++a) RC_ASSERT(std::fabs(md.point[k][a] - d(ref.point[k][a])) < 1e-9);
+  if (ref.count == 0) return;
+  // The same axis (normal) and the same deepest point; which of several
+  // nearly equivalent clip points eq 105 keeps may differ by a rounding.
+  for (int a = 0; a < 3; ++a) RC_ASSERT(std::fabs(md.n[a] - d(ref.n[a])) < 1e-9);
+  double deep_d = md.penetration[0], deep_mp = d(ref.penetration[0]);
+  for (int k = 1; k < ref.count; ++k) {
+    deep_d = std::max(deep_d, md.penetration[k]);
+    deep_mp = std::max(deep_mp, d(ref.penetration[k]));
   }
-  if (ref.count > 0)
-    for (int a = 0; a < 3; ++a) RC_ASSERT(std::fabs(md.n[a] - d(ref.n[a])) < 1e-9);
+  RC_ASSERT(std::fabs(deep_d - deep_mp) < 1e-9);
   // Every point lies within both boxes grown by the tolerance and its own
   // depth (the contact is between them).
   auto inside = [&](const Vec3<Mp>& p, const double* c, const double* ang, const double* h, double slack) {
@@ -159,8 +177,67 @@ RC_GTEST_PROP(BoxBoxProp, EveryTypeAgreesWithMp, ()) {
     const double slack = std::fabs(d(ref.penetration[k])) + 0.011;
     RC_ASSERT(inside(ref.point[k], ca, aa, ha, slack));
     RC_ASSERT(inside(ref.point[k], pb, ab, hb, slack));
+    const Vec3<Mp> pd{Mp(md.point[k].x), Mp(md.point[k].y), Mp(md.point[k].z)};
+    const double slack_d = std::fabs(md.penetration[k]) + 0.011;
+    RC_ASSERT(inside(pd, ca, aa, ha, slack_d));
+    RC_ASSERT(inside(pd, pb, ab, hb, slack_d));
   }
 }
+
+// Two cubes of random sizes, masses and orientations thrown at each other
+// without gravity, ground or restitution (friction on or off): their contacts
+// (eqs 100-110) never raise the kinetic energy (plus its rounding in the
+// type), and linear momentum is conserved, every frame, on double and fixed.
+template <class T>
+void pair_energy_and_momentum(double tol_rel) {
+  auto real = [](double lo, double hi) { return lo + (hi - lo) * *rc::gen::inRange(0, 1000001) / 1e6; };
+  Scene s = bare_scene();
+  s.effects.contacts = true;
+  s.effects.friction = *rc::gen::arbitrary<bool>();
+  for (int k = 0; k < 2; ++k) {
+    BodyDesc b;
+    const double h = real(0.1, 1);  // cubes: free rotation keeps their energy (no gyroscopic term, eq 11)
+    b.half_extents = {h, h, h};
+    b.mass = real(0.2, 5);
+    b.position = {k == 0 ? -1.2 : 1.2, real(-0.5, 0.5), real(-0.5, 0.5)};
+    b.orientation = {real(-1, 1), real(-1, 1), real(-1, 1), real(-1, 1)};
+    RC_PRE(std::fabs(b.orientation.w) + std::fabs(b.orientation.x) + std::fabs(b.orientation.y) +
+               std::fabs(b.orientation.z) > 0.5);
+    b.velocity = {k == 0 ? real(0.5, 4) : -real(0.5, 4), real(-0.5, 0.5), real(-0.5, 0.5)};
+    b.angular_velocity = {real(-2, 2), real(-2, 2), real(-2, 2)};
+    b.material = {0.0, real(0, 1)};
+    s.bodies.push_back(b);
+  }
+  RC_LOG() << scene_to_json(s) << "\n";
+  World<T> w(s);
+  // Kinetic energy (J); without gravity there is no potential energy (World's
+  // energy() counts the scene's g field whether or not the effect is on).
+  auto kinetic = [&] {
+    double e = 0;
+    for (const Body<T>& b : w.bodies()) {
+      const double m = 1 / d(b.inv_mass);
+      for (int a = 0; a < 3; ++a) e += 0.5 * m * d(b.v[a]) * d(b.v[a]) + 0.5 * d(b.w[a]) * d(b.w[a]) / d(b.inv_inertia[a]);
+    }
+    return e;
+  };
+  const double e0 = kinetic();
+  auto momentum = [&](int a) {
+    double p = 0;
+    for (const Body<T>& b : w.bodies()) p += d(b.v[a]) / d(b.inv_mass);
+    return p;
+  };
+  const double p0[3] = {momentum(0), momentum(1), momentum(2)};
+  bool touched = false;
+  for (int f = 0; f < 90; ++f) {
+    w.step();
+    touched = touched || w.counters().body_contacts > 0;
+    RC_ASSERT(kinetic() <= e0 * (1 + tol_rel) + 1e-9);
+    for (int a = 0; a < 3; ++a) RC_ASSERT(std::fabs(momentum(a) - p0[a]) <= tol_rel * 20 * (1 + std::fabs(p0[a])));
+  }
+  RC_TAG(touched ? "contact" : "no contact");
+}
+RC_GTEST_PROP(BoxBoxProp, InelasticPairNeverGainsEnergyDouble, ()) { pair_energy_and_momentum<double>(1e-9); }
+RC_GTEST_PROP(BoxBoxProp, InelasticPairNeverGainsEnergyFixed, ()) { pair_energy_and_momentum<Q16>(2e-3); }
 
 }  // namespace
 }  // namespace lockstep::test
