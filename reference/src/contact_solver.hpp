@@ -97,7 +97,8 @@ void World<T>::solve_contacts() {
   // back in the next. The source's AABB model: every pass in order.
   for (int it = 0; it < P_.solver_iterations; ++it) {
     for (std::size_t vi = 0; vi < visits.size(); ++vi) {
-      const auto [s, e] = visits[(oriented && (it & 1)) ? visits.size() - 1 - vi : vi];
+      const std::pair<std::size_t, std::size_t>& visit = visits[(oriented && (it & 1)) ? visits.size() - 1 - vi : vi];
+      const std::size_t s = visit.first, e = visit.second;  // (not a structured binding: lambdas capture s)
       const bool manifold = contacts_[s].b < 0 || oriented;
       const int ia = contacts_[s].a, ib = contacts_[s].b;
       BodyView<T> A = solver::view_of(bodies_, ia);

@@ -108,6 +108,16 @@ inline Int round_half_even(const Rat& r) {
   return (fl % 2 == 0) ? fl : Int(fl + 1);
 }
 
+// round(n / d) to nearest, ties to even (the Q16 rule, Fix 11), d != 0.
+inline Int round_div_even(const Int& n, const Int& d) { return d < 0 ? round_half_even(Rat(-n, -d)) : round_half_even(Rat(n, d)); }
+// round(sqrt(n)) to nearest for n >= 0: r = floor(sqrt(n)) or r + 1,
+// whichever is nearer: r + 1 when sqrt(n) > r + 1/2, i.e. 4n > (2r + 1)^2
+// (never equal: the left side is even, the right odd).
+inline Int isqrt_round(const Int& n) {
+  const Int r = isqrt(n);
+  return 4 * n > (2 * r + 1) * (2 * r + 1) ? Int(r + 1) : r;
+}
+
 // ---- The scalar rules (fixed/README.md) ------------------------------------
 
 inline Expect ref_from_int(std::int64_t i) { return clamp(Int(i) * 65536); }
@@ -120,21 +130,21 @@ inline Expect ref_add(std::int32_t a, std::int32_t b) { return clamp(Int(a) + In
 inline Expect ref_sub(std::int32_t a, std::int32_t b) { return clamp(Int(a) - Int(b)); }
 inline Expect ref_neg(std::int32_t a) { return clamp(-Int(a)); }
 inline Expect ref_abs(std::int32_t a) { return clamp(abs(Int(a))); }
-inline Expect ref_mul(std::int32_t a, std::int32_t b) { return clamp(floor_div(Int(a) * Int(b), 65536)); }
+inline Expect ref_mul(std::int32_t a, std::int32_t b) { return clamp(round_div_even(Int(a) * Int(b), 65536)); }
 inline Expect ref_div(std::int32_t a, std::int32_t b) {
   if (b == 0) return {a >= 0 ? kMax32 : kMin32, lockstep::kQ16DivByZero};
-  return clamp(floor_div(Int(a) * 65536, Int(b)));
+  return clamp(round_div_even(Int(a) * 65536, Int(b)));
 }
 inline Expect ref_sqrt(std::int32_t a) {
   if (a < 0) return {0, lockstep::kQ16SqrtNegative};
-  return clamp(isqrt(Int(a) * 65536));
+  return clamp(isqrt_round(Int(a) * 65536));
 }
 inline Expect ref_reciprocal(std::int32_t a) { return ref_div(65536, a); }
 inline std::int32_t ref_floor_to_int(std::int32_t a) {
   return static_cast<std::int32_t>(floor_div(Int(a), 65536));
 }
 
-// ---- The vector rules: exact sums of raw products, floored once ----------------
+// ---- The vector rules: exact sums of raw products, rounded once ----------------
 
 struct Expect3 {
   Expect c[3];
@@ -155,8 +165,8 @@ struct Expect9 {
 };
 
 inline Int I(lockstep::Q16 q) { return Int(q.raw()); }
-// floor(sum / 2^16), clamped: the accumulator rule.
-inline Expect acc(const Int& sum_of_products) { return clamp(floor_div(sum_of_products, 65536)); }
+// round(sum / 2^16), to nearest, ties to even, clamped: the accumulator rule.
+inline Expect acc(const Int& sum_of_products) { return clamp(round_div_even(sum_of_products, 65536)); }
 
 inline Expect ref_dot(const lockstep::Vec3<lockstep::Q16>& a, const lockstep::Vec3<lockstep::Q16>& b) {
   return acc(I(a.x) * I(b.x) + I(a.y) * I(b.y) + I(a.z) * I(b.z));
@@ -167,14 +177,14 @@ inline Expect3 ref_cross(const lockstep::Vec3<lockstep::Q16>& a, const lockstep:
 }
 inline Int raw_sum_sq(const lockstep::Vec3<lockstep::Q16>& a) { return I(a.x) * I(a.x) + I(a.y) * I(a.y) + I(a.z) * I(a.z); }
 inline Expect ref_length_sq(const lockstep::Vec3<lockstep::Q16>& a) { return acc(raw_sum_sq(a)); }
-// |a| in raw units is sqrt(sum R_i^2): floored once.
-inline Expect ref_length(const lockstep::Vec3<lockstep::Q16>& a) { return clamp(isqrt(raw_sum_sq(a))); }
-// The normalise rule: L = floor(sqrt(sum R_i^2)), n_i = floor(R_i * 2^16 / L).
+// |a| in raw units is sqrt(sum R_i^2): rounded once.
+inline Expect ref_length(const lockstep::Vec3<lockstep::Q16>& a) { return clamp(isqrt_round(raw_sum_sq(a))); }
+// The normalise rule: L = round(sqrt(sum R_i^2)), n_i = round(R_i * 2^16 / L).
 inline Expect3 ref_normalize(const lockstep::Vec3<lockstep::Q16>& a) {
-  const Int l = isqrt(raw_sum_sq(a));
+  const Int l = isqrt_round(raw_sum_sq(a));
   if (l == 0) return {{{0, lockstep::kQ16NormalizeZero}, {0, 0}, {0, 0}}};
-  return {{clamp(floor_div(I(a.x) * 65536, l)), clamp(floor_div(I(a.y) * 65536, l)),
-           clamp(floor_div(I(a.z) * 65536, l))}};
+  return {{clamp(round_div_even(I(a.x) * 65536, l)), clamp(round_div_even(I(a.y) * 65536, l)),
+           clamp(round_div_even(I(a.z) * 65536, l))}};
 }
 
 inline Expect4 ref_quat_mul(const lockstep::Quat<lockstep::Q16>& a, const lockstep::Quat<lockstep::Q16>& b) {
@@ -192,15 +202,15 @@ inline Expect ref_quat_length_sq(const lockstep::Quat<lockstep::Q16>& q) { retur
 inline Expect4 ref_normalize(const lockstep::Quat<lockstep::Q16>& q) {
   auto lift = [](lockstep::Q16 v) { return v.raw() == kMin32 ? Int(-kMax32) : Int(v.raw()); };
   const Int c[4] = {lift(q.w), lift(q.x), lift(q.y), lift(q.z)};
-  const Int l = isqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2] + c[3] * c[3]);
+  const Int l = isqrt_round(c[0] * c[0] + c[1] * c[1] + c[2] * c[2] + c[3] * c[3]);
   if (l == 0) return {{{65536, lockstep::kQ16NormalizeZero}, {0, 0}, {0, 0}, {0, 0}}};
   Expect4 out;
-  for (int i = 0; i < 4; ++i) out.c[i] = clamp(floor_div(c[i] * 65536, l));
+  for (int i = 0; i < 4; ++i) out.c[i] = clamp(round_div_even(c[i] * 65536, l));
   return out;
 }
 
 // The rotation-matrix rule: each entry is the exact polynomial in the raw
-// components at scale 2^32 (1 = 2^32), floored once to scale 2^16.
+// components at scale 2^32 (1 = 2^32), rounded once to scale 2^16.
 inline Int rot_poly_scaled(const lockstep::Quat<lockstep::Q16>& q, int i, int j) {
   const Int w = I(q.w), x = I(q.x), y = I(q.y), z = I(q.z);
   const Int one = pow2(32);
@@ -240,7 +250,7 @@ inline Expect3 ref_mat_transpose_vec(const lockstep::Mat3<lockstep::Q16>& m, con
   for (int i = 0; i < 3; ++i) out.c[i] = acc(I(m.row[0][i]) * I(v.x) + I(m.row[1][i]) * I(v.y) + I(m.row[2][i]) * I(v.z));
   return out;
 }
-// rotate = (rotation matrix, floored and clamped) * v, floored and clamped.
+// rotate = (rotation matrix, rounded and clamped) * v, rounded and clamped.
 inline Expect3 ref_rotate(const lockstep::Quat<lockstep::Q16>& q, const lockstep::Vec3<lockstep::Q16>& v) {
   const Expect9 m9 = ref_rotation_matrix(q);
   lockstep::Mat3<lockstep::Q16> m;

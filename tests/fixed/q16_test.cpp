@@ -202,10 +202,10 @@ TEST(Q16Edge, LiteralValues) {
       {"MIN+MIN", run([] { return R(kMin32) + R(kMin32); }), {kMin32, kQ16Overflow}},
       {"0-MIN", run([] { return R(0) - R(kMin32); }), {kMax32, kQ16Overflow}},
       {"-1-MAX", run([] { return R(-1) - R(kMax32); }), {kMin32, 0}},
-      // mul: floor, not truncation; clamps.
-      {"-1r*1r", run([] { return R(-1) * R(1); }), {-1, 0}},
+      // mul: to nearest, ties to even (Fix 11); clamps.
+      {"-1r*1r", run([] { return R(-1) * R(1); }), {0, 0}},  // -2^-16 ulp rounds to 0
       {"-1r*-1r", run([] { return R(-1) * R(-1); }), {0, 0}},
-      {"-1r*0.5", run([] { return R(-1) * R(32768); }), {-1, 0}},
+      {"-1r*0.5", run([] { return R(-1) * R(32768); }), {0, 0}},  // -1/2 ulp: a tie, to even
       {"1r*0.5", run([] { return R(1) * R(32768); }), {0, 0}},
       {"MIN*1", run([] { return R(kMin32) * R(65536); }), {kMin32, 0}},
       {"MIN*-1", run([] { return R(kMin32) * R(-65536); }), {kMax32, kQ16Overflow}},
@@ -215,7 +215,7 @@ TEST(Q16Edge, LiteralValues) {
       {"MAX*MAX", run([] { return R(kMax32) * R(kMax32); }), {kMax32, kQ16Overflow}},
       {"MIN*-1r", run([] { return R(kMin32) * R(-1); }), {32768, 0}},
       {"MAX*-1r", run([] { return R(kMax32) * R(-1); }), {-32768, 0}},
-      // div: floor; clamps; by zero.
+      // div: to nearest, ties to even; clamps; by zero.
       {"1/0", run([] { return R(65536) / R(0); }), {kMax32, kQ16DivByZero}},
       {"-1r/0", run([] { return R(-1) / R(0); }), {kMin32, kQ16DivByZero}},
       {"0/0", run([] { return R(0) / R(0); }), {kMax32, kQ16DivByZero}},
@@ -226,9 +226,9 @@ TEST(Q16Edge, LiteralValues) {
       {"MIN/1", run([] { return R(kMin32) / R(65536); }), {kMin32, 0}},
       {"MIN/MIN", run([] { return R(kMin32) / R(kMin32); }), {65536, 0}},
       {"MAX/MIN", run([] { return R(kMax32) / R(kMin32); }), {-65536, 0}},
-      {"MIN/MAX", run([] { return R(kMin32) / R(kMax32); }), {-65537, 0}},
-      {"-1r/2", run([] { return R(-1) / R(131072); }), {-1, 0}},
-      {"1r/-2", run([] { return R(1) / R(-131072); }), {-1, 0}},
+      {"MIN/MAX", run([] { return R(kMin32) / R(kMax32); }), {-65536, 0}},
+      {"-1r/2", run([] { return R(-1) / R(131072); }), {0, 0}},  // a tie, to even
+      {"1r/-2", run([] { return R(1) / R(-131072); }), {0, 0}},  // sign-symmetric
       {"1r/2", run([] { return R(1) / R(131072); }), {0, 0}},
       {"1/-1r", run([] { return R(65536) / R(-1); }), {kMin32, kQ16Overflow}},
       {"-0.5/1r", run([] { return R(-32768) / R(1); }), {kMin32, 0}},
@@ -236,14 +236,14 @@ TEST(Q16Edge, LiteralValues) {
       {"recip(MIN)", run([] { return lockstep::reciprocal(R(kMin32)); }), {-2, 0}},
       {"recip(MAX)", run([] { return lockstep::reciprocal(R(kMax32)); }), {2, 0}},
       {"recip(3r)", run([] { return lockstep::reciprocal(R(3)); }), {1431655765, 0}},
-      {"recip(-3r)", run([] { return lockstep::reciprocal(R(-3)); }), {-1431655766, 0}},
-      // sqrt: floor of the exact root of R*2^16; negative gives 0.
+      {"recip(-3r)", run([] { return lockstep::reciprocal(R(-3)); }), {-1431655765, 0}},  // = -recip(3r)
+      // sqrt: the exact root of R*2^16 to nearest; negative gives 0.
       {"sqrt(-1r)", run([] { return lockstep::sqrt(R(-1)); }), {0, kQ16SqrtNegative}},
       {"sqrt(MIN)", run([] { return lockstep::sqrt(R(kMin32)); }), {0, kQ16SqrtNegative}},
       {"sqrt(MAX)", run([] { return lockstep::sqrt(R(kMax32)); }), {11863283, 0}},
       {"sqrt(0)", run([] { return lockstep::sqrt(R(0)); }), {0, 0}},
       {"sqrt(1r)", run([] { return lockstep::sqrt(R(1)); }), {256, 0}},
-      {"sqrt(2)", run([] { return lockstep::sqrt(R(131072)); }), {92681, 0}},
+      {"sqrt(2)", run([] { return lockstep::sqrt(R(131072)); }), {92682, 0}},  // 92681.9
       {"sqrt(4)", run([] { return lockstep::sqrt(R(262144)); }), {131072, 0}},
       // from_int.
       {"int(32767)", run([] { return Q16::from_int(32767); }), {32767 * 65536, 0}},

@@ -52,11 +52,13 @@ Q4 q4(std::int32_t w, std::int32_t x, std::int32_t y, std::int32_t z) { return {
 // Proven bounds, in ulps (see q16_vec.hpp and fixed/README.md).
 // |N - 1| < 6 + 9/2^16 ulp for q = normalize(p) with |p| >= 1, or q a correctly
 // rounded unit quaternion (N = |q|^2).
-const Rat kUnitishN(6 * 65536 + 9, 65536);                   // ulps
-const Rat kRotDiagBound = Rat(1) + 2 * kUnitishN;            // 13.0003 ulp
-const Rat kRotOffBound = Rat(1) + kUnitishN;                 // 7.0002 ulp
-const Rat kRotateUnitVBound = Rat(148, 10);                  // |v| <= 1: 1 + sqrt(3) + 2*6.0002 < 14.8
-const Rat kRotatePerL1 = Rat(1) + 2 * kUnitishN;             // 1 + 13.0003 * ||v||_1
+// |N - 1| of a unit-ish quaternion (fixed/README.md, "Derivations"): with
+// |d| < u/2 and |e_i| <= 1/2, |N - 1| < u + 2u(1 + u/2) + u^2 < 3.0002 u.
+const Rat kUnitishN(3 * 65536 + 9, 65536);                   // ulps
+const Rat kRotDiagBound = Rat(1, 2) + 2 * kUnitishN;         // 6.5003 ulp
+const Rat kRotOffBound = Rat(1, 2) + kUnitishN;              // 3.5002 ulp
+const Rat kRotateUnitVBound = Rat(74, 10);                   // |v| <= 1: 1/2 + sqrt(3)/2 + 2*3.0002 < 7.4
+const Rat kRotatePerL1 = Rat(1, 2) + 2 * kUnitishN;          // 1/2 + 6.5004 * ||v||_1
 
 // ---- Generators --------------------------------------------------------------
 
@@ -201,7 +203,7 @@ LS_PROP(Q16VecProp, Accumulator) {
     else if (kind == 1) { a.sub_product(x, y); sum -= Int(x) * y; }
     else { a.add_raw(x); sum += Int(x) * 65536; }
   }
-  RC_ASSERT(Int(a.floor_result()) == lt::floor_div(sum, 65536));
+  RC_ASSERT(Int(a.round_result()) == lt::round_div_even(sum, 65536));
   assert_same(run([&] { return a.result(); }), lt::acc(sum));
 }
 
@@ -262,16 +264,16 @@ LS_PROP(Q16VecProp, NormalizeRule) {
   assert_same(run([&] { return lockstep::normalize(a); }), lt::ref_normalize(a));
 }
 
-// |n_i - exact_i| < 1 + 2^16/L ulp (L = floor(|a| * 2^16)): < 2 ulp for |a| >= 1,
-// < 257 ulp for |a| >= 2^-8.
+// |n_i - exact_i| < 1/2 + 2^15/L ulp (L = round(|a| * 2^16), |L - |a| 2^16| < 1/2,
+// and n_i rounded once more): < 1 ulp for |a| >= 1, < 128.5 ulp for |a| >= 2^-8.
 LS_PROP(Q16VecProp, NormalizeBound) {
   const V3 a = *rc::gen::weightedOneOf<V3>({{5, vec_length_in(0, 14)}, {5, vec_length_in(-8, 0)}});
   const V3 n = lockstep::normalize(a);
-  const Int s = lt::raw_sum_sq(a), l = lt::isqrt(s);
-  const Rat bound = Rat(1) + Rat(65536, l);
+  const Int s = lt::raw_sum_sq(a), l = lt::isqrt_round(s);
+  const Rat bound = Rat(1, 2) + Rat(32768, l);
   for (int i = 0; i < 3; ++i) {
     RC_ASSERT(lt::within_over_sqrt(Int(n[i].raw()), bound, lt::I(a[i]) * 65536, s));
-    if (l >= 65536) RC_ASSERT(lt::within_over_sqrt(Int(n[i].raw()), Rat(2), lt::I(a[i]) * 65536, s));
+    if (l >= 65536) RC_ASSERT(lt::within_over_sqrt(Int(n[i].raw()), Rat(1), lt::I(a[i]) * 65536, s));
     RC_ASSERT(n[i].raw() >= -65536);
     RC_ASSERT(n[i].raw() <= 65536);
   }
@@ -285,18 +287,19 @@ LS_PROP(Q16VecProp, QuatNormalizeRule) {
 LS_PROP(Q16VecProp, QuatNormalizeBound) {
   const Q4 q = *rc::gen::weightedOneOf<Q4>({{5, quat_length_in(0, 14)}, {5, quat_length_in(-8, 0)}});
   const Q4 n = lockstep::normalize(q);
-  const Int s = lt::raw_sum_sq(q), l = lt::isqrt(s);
-  const Rat bound = Rat(1) + Rat(65536, l);
+  const Int s = lt::raw_sum_sq(q), l = lt::isqrt_round(s);
+  const Rat bound = Rat(1, 2) + Rat(32768, l);
   const Q16 in[4] = {q.w, q.x, q.y, q.z}, out[4] = {n.w, n.x, n.y, n.z};
   for (int i = 0; i < 4; ++i) {
     RC_ASSERT(lt::within_over_sqrt(Int(out[i].raw()), bound, lt::I(in[i]) * 65536, s));
-    if (l >= 65536) RC_ASSERT(lt::within_over_sqrt(Int(out[i].raw()), Rat(2), lt::I(in[i]) * 65536, s));
+    if (l >= 65536) RC_ASSERT(lt::within_over_sqrt(Int(out[i].raw()), Rat(1), lt::I(in[i]) * 65536, s));
   }
 }
 
 // For a unit-ish q, each entry against the rotation matrix of q/|q|:
-//   M_ij - Rhat_ij = (M_ij - P_ij) + (N - 1)(Rhat - I)_ij, with M - P in (-1, 0] ulp,
-// so |error| < 1 + 2|N - 1| (diagonal), < 1 + |N - 1| (off-diagonal).
+//   M_ij - Rhat_ij = (M_ij - P_ij) + (N - 1)(Rhat - I)_ij, with M - P in [-1/2, 1/2] ulp
+// (one rounding to nearest), so |error| <= 1/2 + 2|N - 1| (diagonal), <= 1/2 + |N - 1|
+// (off-diagonal).
 LS_PROP(Q16VecProp, RotationMatrixUnitish) {
   const Q4 q = *quat_unitish();
   const M3 m = lockstep::rotation_matrix(q);
@@ -308,8 +311,7 @@ LS_PROP(Q16VecProp, RotationMatrixUnitish) {
       const Rat rhat = lt::true_rotation_raw(q, i, j);  // raw units
       const Rat err = Rat(m.row[i][j].raw()) - rhat;    // ulps
       const Rat drift = n_minus_1 * (rhat - (i == j ? Rat(65536) : Rat(0)));
-      RC_ASSERT(err - drift > -1);
-      RC_ASSERT(err - drift <= 0);
+      RC_ASSERT(abs_rat(err - drift) <= Rat(1, 2));
       RC_ASSERT(abs_rat(err) < (i == j ? kRotDiagBound : kRotOffBound));
     }
   }
@@ -322,8 +324,9 @@ LS_PROP(Q16VecProp, RotateRule) {
 }
 
 // rotate(q, v) against the exact P(q) v (P the exact polynomial matrix):
-// |error| < 1 + ||v||_1 ulp; against the exact rotation by q/|q| for unit-ish q:
-// |error| < 1 + ||v||_1 + 2|N-1| |v| <= 1 + 13.0003 ||v||_1, and < 14.8 ulp for |v| <= 1.
+// |error| <= 1/2 + ||v||_1 / 2 ulp (the matrix entries, then the product, each
+// rounded to nearest); against the exact rotation by q/|q| for unit-ish q:
+// |error| < 1/2 + ||v||_1 / 2 + 2|N-1| |v| <= 1/2 + 6.5004 ||v||_1, and < 7.4 ulp for |v| <= 1.
 LS_PROP(Q16VecProp, RotateUnitish) {
   const Q4 q = *quat_unitish();
   const bool unit_v = *rc::gen::arbitrary<bool>();
@@ -338,9 +341,9 @@ LS_PROP(Q16VecProp, RotateUnitish) {
       exact += lt::true_rotation_raw(q, i, j) * Rat(lt::I(v[j]), 65536);
     }
     const Rat err_poly = Rat(r[i].raw()) - Rat(poly, lt::pow2(32));
-    RC_ASSERT(abs_rat(err_poly) < 1 + l1);
+    RC_ASSERT(abs_rat(err_poly) <= Rat(1, 2) + l1 / 2);
     const Rat err = abs_rat(Rat(r[i].raw()) - exact);
-    RC_ASSERT(err < 1 + kRotatePerL1 * l1);
+    RC_ASSERT(err < Rat(1, 2) + kRotatePerL1 * l1);
     if (unit_v) RC_ASSERT(err < kRotateUnitVBound);
   }
 }
@@ -364,23 +367,23 @@ TEST(Q16VecEdge, NormalizeZero) {
 
 TEST(Q16VecEdge, NormalizeLiterals) {
   lockstep::q16_clear_status();
-  // Tiny vectors: L = floor(sqrt(S)) is a small integer, the error is up to 2^16/L ulp.
+  // Tiny vectors: L = round(sqrt(S)) is a small integer, the error is up to 2^15/L ulp.
   EXPECT_EQ(lockstep::normalize(v3(1, 0, 0)), v3(65536, 0, 0));
   EXPECT_EQ(lockstep::normalize(v3(-1, 0, 0)), v3(-65536, 0, 0));
   EXPECT_EQ(lockstep::normalize(v3(1, 1, 0)), v3(65536, 65536, 0));   // S = 2, L = 1
-  EXPECT_EQ(lockstep::normalize(v3(-1, 1, 1)), v3(-65536, 65536, 65536));
-  EXPECT_EQ(lockstep::normalize(v3(0, 3, 4)), v3(0, 39321, 52428));   // 3/5, 4/5 floored
-  EXPECT_EQ(lockstep::normalize(v3(0, -3 << 16, 4 << 16)), v3(0, -39322, 52428));
+  EXPECT_EQ(lockstep::normalize(v3(-1, 1, 1)), v3(-32768, 32768, 32768));  // S = 3, L = 2
+  EXPECT_EQ(lockstep::normalize(v3(0, 3, 4)), v3(0, 39322, 52429));   // 3/5, 4/5 rounded
+  EXPECT_EQ(lockstep::normalize(v3(0, -3 << 16, 4 << 16)), v3(0, -39322, 52429));  // sign-symmetric
   // INT32_MIN components need no lift for vectors (3 * 2^62 < 2^64).
   EXPECT_EQ(lockstep::normalize(v3(kMin32, 0, 0)), v3(-65536, 0, 0));
-  EXPECT_EQ(lockstep::normalize(v3(kMin32, kMin32, kMin32)), v3(-37838, -37838, -37838));
+  EXPECT_EQ(lockstep::normalize(v3(kMin32, kMin32, kMin32)), v3(-37837, -37837, -37837));
   EXPECT_EQ(lockstep::normalize(v3(kMax32, kMax32, kMax32)), v3(37837, 37837, 37837));
   // Quaternions: INT32_MIN is lifted to -INT32_MAX first (4 * 2^62 = 2^64).
   EXPECT_EQ(lockstep::normalize(q4(kMin32, 0, 0, 0)), q4(-65536, 0, 0, 0));
   EXPECT_EQ(lockstep::normalize(q4(kMin32, kMin32, kMin32, kMin32)), q4(-32768, -32768, -32768, -32768));
   EXPECT_EQ(lockstep::normalize(q4(kMax32, kMax32, kMax32, kMax32)), q4(32768, 32768, 32768, 32768));
-  EXPECT_EQ(lockstep::normalize(q4(kMin32, kMax32, 0, 0)), q4(-46341, 46340, 0, 0));
-  EXPECT_EQ(lockstep::normalize(q4(kMin32, kMin32 + 1, kMax32, 0)), q4(-37838, -37838, 37837, 0));
+  EXPECT_EQ(lockstep::normalize(q4(kMin32, kMax32, 0, 0)), q4(-46341, 46341, 0, 0));
+  EXPECT_EQ(lockstep::normalize(q4(kMin32, kMin32 + 1, kMax32, 0)), q4(-37837, -37837, 37837, 0));
   EXPECT_EQ(lockstep::normalize(q4(0, 0, 0, 1)), q4(0, 0, 0, 65536));
   EXPECT_EQ(lockstep::q16_take_status(), 0u);
 }
@@ -456,9 +459,9 @@ TEST(Q16VecEdge, OverflowLiterals) {
   EXPECT_EQ(lockstep::q16_take_status(), kQ16Overflow);
   EXPECT_EQ(lockstep::cross(v3(kMax32, 0, 0), v3(0, kMax32, 0)), v3(0, 0, kMax32));
   EXPECT_EQ(lockstep::q16_take_status(), kQ16Overflow);
-  // Small values: floor, not truncation.
-  EXPECT_EQ(lockstep::dot(v3(-1, 0, 0), v3(1, 0, 0)), R(-1));
-  EXPECT_EQ(lockstep::cross(v3(0, 1, 0), v3(0, 0, -1)), v3(-1, 0, 0));
+  // Small values: to nearest (-2^-16 ulp rounds to 0), as for +2^-16.
+  EXPECT_EQ(lockstep::dot(v3(-1, 0, 0), v3(1, 0, 0)), R(0));
+  EXPECT_EQ(lockstep::cross(v3(0, 1, 0), v3(0, 0, -1)), v3(0, 0, 0));
   EXPECT_EQ(lockstep::q16_take_status(), 0u);
   // The identity and a half turn are exact.
   const M3 id = lockstep::rotation_matrix(q4(65536, 0, 0, 0));
@@ -515,22 +518,22 @@ TEST(Q16VecMeasure, WorstCases) {
     comps(big ? 0 : -8, big ? 14 : 0, 3, c);
     const V3 a = v3(static_cast<std::int32_t>(c[0]), static_cast<std::int32_t>(c[1]), static_cast<std::int32_t>(c[2]));
     const V3 n = lockstep::normalize(a);
-    const Int s = lt::raw_sum_sq(a), l = lt::isqrt(s);
+    const Int s = lt::raw_sum_sq(a), l = lt::isqrt_round(s);
     for (int i = 0; i < 3; ++i) {
       const long double e = lt::err_over_sqrt(Int(n[i].raw()), lt::I(a[i]) * 65536, s);
       (big ? nv_big : nv_small).see(e);
-      if (!big) nv_small_ratio.see(e / (1 + 65536.0L / static_cast<long double>(l)));
+      if (!big) nv_small_ratio.see(e / (0.5L + 32768.0L / static_cast<long double>(l)));
     }
     comps(big ? 0 : -8, big ? 14 : 0, 4, c);
     const Q4 p = q4(static_cast<std::int32_t>(c[0]), static_cast<std::int32_t>(c[1]), static_cast<std::int32_t>(c[2]),
                     static_cast<std::int32_t>(c[3]));
     const Q4 q = lockstep::normalize(p);
-    const Int sp = lt::raw_sum_sq(p), lp = lt::isqrt(sp);
+    const Int sp = lt::raw_sum_sq(p), lp = lt::isqrt_round(sp);
     const Q16 in[4] = {p.w, p.x, p.y, p.z}, out[4] = {q.w, q.x, q.y, q.z};
     for (int i = 0; i < 4; ++i) {
       const long double e = lt::err_over_sqrt(Int(out[i].raw()), lt::I(in[i]) * 65536, sp);
       (big ? nq_big : nq_small).see(e);
-      if (!big) nq_small_ratio.see(e / (1 + 65536.0L / static_cast<long double>(lp)));
+      if (!big) nq_small_ratio.see(e / (0.5L + 32768.0L / static_cast<long double>(lp)));
     }
     if (!big) continue;
     // Rotation by the unit-ish q = normalize(p), |p| >= 1.
@@ -560,23 +563,23 @@ TEST(Q16VecMeasure, WorstCases) {
         rot_true_unit.see(e);
         rot_poly.see(lt::to_ld(Rat(r[i].raw()) - Rat(poly, lt::pow2(32))));
       } else {
-        rot_true_per_len.see((std::fabs(e) - 1) / vlen);
+        rot_true_per_len.see((std::fabs(e) - 0.5L) / vlen);
       }
     }
   }
   std::printf("worst |error| in ulps over %d samples per class:\n", samples / 2);
-  std::printf("  normalize(Vec3)  |a| in [1, 2^14]      %.4Lf  (bound < 2)\n", nv_big.v);
-  std::printf("  normalize(Vec3)  |a| in [2^-8, 1)      %.4Lf  (bound < 1 + 2^16/L; worst error/bound %.4Lf)\n",
+  std::printf("  normalize(Vec3)  |a| in [1, 2^14]      %.4Lf  (bound < 1)\n", nv_big.v);
+  std::printf("  normalize(Vec3)  |a| in [2^-8, 1)      %.4Lf  (bound < 1/2 + 2^15/L; worst error/bound %.4Lf)\n",
               nv_small.v, nv_small_ratio.v);
-  std::printf("  normalize(Quat)  |q| in [1, 2^14]      %.4Lf  (bound < 2)\n", nq_big.v);
-  std::printf("  normalize(Quat)  |q| in [2^-8, 1)      %.4Lf  (bound < 1 + 2^16/L; worst error/bound %.4Lf)\n",
+  std::printf("  normalize(Quat)  |q| in [1, 2^14]      %.4Lf  (bound < 1)\n", nq_big.v);
+  std::printf("  normalize(Quat)  |q| in [2^-8, 1)      %.4Lf  (bound < 1/2 + 2^15/L; worst error/bound %.4Lf)\n",
               nq_small.v, nq_small_ratio.v);
-  std::printf("  |q|^2 - 1 of normalize(Quat), ulps    [%.4Lf, %.4Lf]  (bound |.| < 6.0002)\n", n1_lo, n1_hi);
-  std::printf("  rotation_matrix diag vs R(q/|q|)       %.4Lf  (bound < 13.0003)\n", rot_diag.v);
-  std::printf("  rotation_matrix off-diag vs R(q/|q|)   %.4Lf  (bound < 7.0002)\n", rot_off.v);
-  std::printf("  rotate, |v| <= 1, vs exact P(q) v      %.4Lf  (bound < 1 + ||v||_1 <= 2.733)\n", rot_poly.v);
-  std::printf("  rotate, |v| <= 1, vs rotation q/|q|    %.4Lf  (bound < 14.8)\n", rot_true_unit.v);
-  std::printf("  rotate, |v| in [1, 2^13]: (|err| - 1)/|v|  %.4Lf  (bound < 1.733 + 12.0003)\n", rot_true_per_len.v);
+  std::printf("  |q|^2 - 1 of normalize(Quat), ulps    [%.4Lf, %.4Lf]  (bound |.| < 3.0002)\n", n1_lo, n1_hi);
+  std::printf("  rotation_matrix diag vs R(q/|q|)       %.4Lf  (bound < 6.5003)\n", rot_diag.v);
+  std::printf("  rotation_matrix off-diag vs R(q/|q|)   %.4Lf  (bound < 3.5002)\n", rot_off.v);
+  std::printf("  rotate, |v| <= 1, vs exact P(q) v      %.4Lf  (bound <= 1/2 + ||v||_1 / 2 <= 1.367)\n", rot_poly.v);
+  std::printf("  rotate, |v| <= 1, vs rotation q/|q|    %.4Lf  (bound < 7.4)\n", rot_true_unit.v);
+  std::printf("  rotate, |v| in [1, 2^13]: (|err| - 1/2)/|v|  %.4Lf  (bound < 0.867 + 6.0004)\n", rot_true_per_len.v);
   EXPECT_LT(nv_big.v, 2);
   EXPECT_LT(nq_big.v, 2);
   EXPECT_LT(nv_small_ratio.v, 1);

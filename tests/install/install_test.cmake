@@ -33,8 +33,8 @@ step("build the consumer" ${CMAKE_COMMAND} --build ${consumer_build})
 
 step("run fixed_consumer" ${consumer_build}/fixed_consumer)
 string(STRIP "${step_output}" fixed_out)
-if(NOT fixed_out STREQUAL "-1 -65536 81920")
-  message(FATAL_ERROR "install test: fixed_consumer printed '${fixed_out}', expected '-1 -65536 98304'")
+if(NOT fixed_out STREQUAL "2 -65536 81920")
+  message(FATAL_ERROR "install test: fixed_consumer printed '${fixed_out}', expected '2 -65536 81920'")
 endif()
 
 step("run reference_consumer" ${consumer_build}/reference_consumer)

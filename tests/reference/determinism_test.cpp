@@ -1,12 +1,13 @@
 // The fixed engine repeats bit for bit: two runs, and a run saved and restored
 // mid-way, give the same per-frame hashes (eq 92).
-#include "lockstep/builtin_scenes.hpp"
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
+#include <cmath>
 #include <vector>
 
 #include "engine_types.hpp"
+#include "lockstep/builtin_scenes.hpp"
 
 namespace lockstep::test {
 namespace {
@@ -58,12 +59,12 @@ RC_GTEST_PROP(DeterminismTest, SaveAndRestoreMidRunGivesTheSameHashes, ()) {
 // Box2D-style pinned determinism: the hash of the single-drop scene at the
 // frame where it falls asleep. A change of any bit of the fixed engine moves
 // it; update it only for an intended physics change (and regenerate vectors/).
-constexpr int kPinnedSleepFrame = 93;
+constexpr int kPinnedSleepFrame = 94;
 constexpr int kPinnedOrientedStackFrame = 30;
-constexpr std::uint64_t kPinnedOrientedStackHash = 0xf4039fbb1cc286ffull;
+constexpr std::uint64_t kPinnedOrientedStackHash = 0x6ade4901b3a01dd0ull;
 constexpr int kPinnedAabbStackFrame = 30;
-constexpr std::uint64_t kPinnedAabbStackHash = 0xc8e0c915f91a56c6ull;
-constexpr std::uint64_t kPinnedHash = 0x3c74ba66b00ea05ull;
+constexpr std::uint64_t kPinnedAabbStackHash = 0x91445dda8f6ec7dfull;
+constexpr std::uint64_t kPinnedHash = 0x2460f2f6b01b819cull;
 TEST(DeterminismTest, PinnedDropHashAndSleepFrame) {
   Scene s;
   BodyDesc b = unit_cube(0, 2, 0);
@@ -94,6 +95,74 @@ TEST(DeterminismTest, PinnedStackHashPerPairModel) {
   const auto aabb = pyramid_asleep(PairModel::kAabb);
   EXPECT_EQ(aabb.first, kPinnedAabbStackFrame);
   EXPECT_EQ(aabb.second, kPinnedAabbStackHash) << std::hex << aabb.second;
+}
+
+// Fix 11: the Q16 rounding (to nearest, ties to even) is sign-symmetric, so
+// a one-body scene and its mirror image (x -> -x, or z -> -z) give mirrored
+// bits every frame: p and v mirrored, the quaternion's other two components
+// and the angular velocity's other two components negated (a reflection turns
+// rotations the other way). Floor broke this: -x floored away from zero.
+RC_GTEST_PROP(DeterminismProp, MirrorImageGivesMirroredBitsEveryFrame, ()) {
+  auto raw = [](int lo, int hi) { return Q16::from_raw(*rc::gen::inRange(lo, hi + 1)).to_double(); };
+  Scene s;
+  BodyDesc b;
+  b.half_extents = {raw(8192, 65536), raw(8192, 65536), raw(8192, 65536)};
+  b.position = {raw(-65536, 65536), raw(65536, 4 * 65536), raw(-65536, 65536)};
+  b.orientation = {raw(32768, 65536), raw(-20000, 20000), raw(-20000, 20000), raw(-20000, 20000)};
+  b.velocity = {raw(-131072, 131072), raw(-65536, 65536), raw(-131072, 131072)};
+  b.angular_velocity = {raw(-131072, 131072), raw(-131072, 131072), raw(-131072, 131072)};
+  s.bodies.push_back(b);
+  const int axis = *rc::gen::element(0, 2);  // mirror x or z (gravity and the ground are along y)
+  Scene m = s;
+  BodyDesc& mb = m.bodies[0];
+  double* p[3] = {&mb.position.x, &mb.position.y, &mb.position.z};
+  double* v[3] = {&mb.velocity.x, &mb.velocity.y, &mb.velocity.z};
+  double* w[3] = {&mb.angular_velocity.x, &mb.angular_velocity.y, &mb.angular_velocity.z};
+  double* q[3] = {&mb.orientation.x, &mb.orientation.y, &mb.orientation.z};
+  *p[axis] = -*p[axis];
+  *v[axis] = -*v[axis];
+  for (int a = 0; a < 3; ++a)
+    if (a != axis) { *w[a] = -*w[a]; *q[a] = -*q[a]; }
+  World<Q16> a(s), c(m);
+  for (int f = 0; f < 240; ++f) {
+    a.step();
+    c.step();
+    const Body<Q16>& x = a.body(0);
+    const Body<Q16>& y = c.body(0);
+    for (int k = 0; k < 3; ++k) {
+      const bool flip = k == axis;
+      RC_ASSERT(y.p[k].raw() == (flip ? -x.p[k].raw() : x.p[k].raw()));
+      RC_ASSERT(y.v[k].raw() == (flip ? -x.v[k].raw() : x.v[k].raw()));
+      RC_ASSERT(y.w[k].raw() == (flip ? x.w[k].raw() : -x.w[k].raw()));
+    }
+    RC_ASSERT(y.q.w.raw() == x.q.w.raw());
+    const Q16 qx[3] = {x.q.x, x.q.y, x.q.z}, qy[3] = {y.q.x, y.q.y, y.q.z};
+    for (int k = 0; k < 3; ++k) RC_ASSERT(qy[k].raw() == (k == axis ? qx[k].raw() : -qx[k].raw()));
+    RC_ASSERT(y.asleep == x.asleep);
+  }
+}
+
+// Fix 11: a slow spin of +w and of -w about y (no gravity, no ground) turns
+// by the same angle in the fixed engine after 100,000 frames: with floor,
+// +0.0001 rad/s never turned and -0.0001 rad/s turned 4.48 rad (the true
+// angle is 0.167 rad).
+TEST(DeterminismTest, SlowSpinTurnsTheSameBothWays) {
+  auto angle_after = [](double w) {
+    Scene s;
+    s.effects = Effects{false, false, false, false, false, false, false, false, false};
+    s.ground.present = false;
+    BodyDesc b;
+    b.angular_velocity = {0, w, 0};
+    s.bodies.push_back(b);
+    World<Q16> world(s);
+    for (int f = 0; f < 100000; ++f) world.step();
+    const Quat<Q16>& q = world.body(0).q;
+    return 2 * std::atan2(q.y.to_double(), q.w.to_double());
+  };
+  for (const double w : {0.0001, 0.01, 0.5}) {
+    const double plus = angle_after(w), minus = angle_after(-w);
+    EXPECT_EQ(plus, -minus) << "w = " << w;
+  }
 }
 
 }  // namespace

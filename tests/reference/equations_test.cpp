@@ -134,9 +134,16 @@ TEST(AabbTest, Eq85ContactPointDoesNotOverflowNearTheRangeEdge) {
     for (std::int32_t d : {0, 1, 2, 3, 65537, 1 << 20}) {
       const Q16 l = Q16::from_raw(lo), hq = Q16::from_raw(lo + d);
       const F p1{l + Q16::from_double(0.5), Q16{}, Q16{}}, p2{hq - Q16::from_double(0.5), Q16{}, Q16{}};
-      const F ce = aabb_contact_point(p1, h, p2, h, half);  // intersection [lo, lo + d]
-      const std::int64_t exact = (2 * static_cast<std::int64_t>(lo) + d) >> 1;  // floor((lo + hi)/2)
-      EXPECT_EQ(ce.x.raw(), exact) << lo << " " << d;
+      const F ce = aabb_contact_point(p1, h, p2, h, half);
+      // The intersection [ilo, ihi] of [lo, lo + 1 m] and [lo + d - 1 m, lo + d];
+      // ilo + round((ihi - ilo) / 2), to nearest, ties to even (Fix 11): the
+      // product (hi - lo) * 0.5.
+      const std::int64_t ilo = std::max<std::int64_t>(lo, std::int64_t{lo} + d - 65536);
+      const std::int64_t ihi = std::min<std::int64_t>(std::int64_t{lo} + 65536, std::int64_t{lo} + d);
+      const std::int64_t w = ihi - ilo, half_w = (w >> 1) + ((w & 1) != 0 && ((w >> 1) & 1) != 0 ? 1 : 0);
+      EXPECT_EQ(ce.x.raw(), ilo + half_w) << lo << " " << d;
+      // The source's (lo + hi) / 2 is within half an ulp of it.
+      EXPECT_LE(std::abs(2 * std::int64_t{ce.x.raw()} - (ilo + ihi)), 1) << lo << " " << d;
     }
   }
   EXPECT_EQ(q16_take_status(), 0u);

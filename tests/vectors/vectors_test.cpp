@@ -360,12 +360,17 @@ TEST(VectorsGenerator, TargetVelocityCasesFollowEq97) {
     for (const Json& t : g["tests"]) {
       const std::int64_t pen = t["in"]["penetration"], e = t["in"]["e"], v_n0 = t["in"]["v_n0"];
       const std::int64_t v = std::min<std::int64_t>(v_n0, 0);
-      const std::int64_t bounce = -((e * v) >> 16);  // -(e * v) in Q16: floor, then negate
+      // round(n / 2^16) to nearest, ties to even (the Q16 product, Fix 11).
+      auto r16 = [](std::int64_t n) {
+        const std::int64_t q = n >> 16, r = n & 0xFFFF;
+        return q + ((r > 0x8000 || (r == 0x8000 && (q & 1) != 0)) ? 1 : 0);
+      };
+      const std::int64_t bounce = -r16(e * v);  // -(e * v) in Q16: rounded, then negated
       const std::int64_t target = t["out"]["target"];
       if (pen >= 0) {
         EXPECT_EQ(target, bounce) << t["tcId"];
         ++touching;
-      } else if (target == ((pen * inv_dt) >> 16)) {
+      } else if (target == r16(pen * inv_dt)) {
         ++open;
       } else {
         EXPECT_GE(target, 0) << t["tcId"];

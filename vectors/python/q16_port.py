@@ -2,8 +2,9 @@
 
 Written from the rules in vectors/README.md and docs/SPEC.md 0.3 only (not
 translated from the C++), with Python's exact integers: a value is its raw
-int32 R (x = R / 2^16); every operation that drops bits floors (Python's >>
-and // both round toward minus infinity); results outside int32 are clamped
+int32 R (x = R / 2^16); every operation that drops bits rounds to nearest,
+ties to even (_rdiv and _rsqrt below, from Python's exact floor division);
+results outside int32 are clamped
 and raise "overflow". Every function returns (result, status) where status is
 the set of flag names raised. Standard library only.
 
@@ -19,6 +20,27 @@ ONE = 1 << 16
 
 # Status flag names in bit order (bit 0 first), as in the vector files.
 FLAG_ORDER = ("overflow", "div_by_zero", "sqrt_negative", "normalize_zero", "invalid")
+
+
+def _rdiv(n, d):
+    """round(n / d) to nearest, ties to even, exactly (d != 0)."""
+    if d < 0:
+        n, d = -n, -d
+    q, r = divmod(n, d)  # floor, 0 <= r < d
+    if 2 * r > d or (2 * r == d and q % 2 == 1):
+        q += 1
+    return q
+
+
+def _r16(n):
+    """round(n / 2^16) to nearest, ties to even."""
+    return _rdiv(n, ONE)
+
+
+def _rsqrt(n):
+    """round(sqrt(n)) to nearest (never a tie for an integer n >= 0)."""
+    r = math.isqrt(n)
+    return r + 1 if 4 * n > (2 * r + 1) ** 2 else r
 
 
 def _clamp(v, st):
@@ -68,14 +90,14 @@ def neg(a, st):
 
 
 def mul(a, b, st):
-    return _clamp((a * b) >> 16, st)
+    return _clamp(_r16(a * b), st)
 
 
 def div(a, b, st):
     if b == 0:
         st.add("div_by_zero")
         return INT32_MAX if a >= 0 else INT32_MIN
-    return _clamp((a << 16) // b, st)
+    return _clamp(_rdiv(a << 16, b), st)
 
 
 def reciprocal(a, st):
@@ -86,7 +108,7 @@ def sqrt(a, st):
     if a < 0:
         st.add("sqrt_negative")
         return 0
-    return math.isqrt(a << 16)
+    return _rsqrt(a << 16)
 
 
 def q_abs(a, st):
@@ -105,64 +127,64 @@ def floor_to_int(a, st):
     return a >> 16
 
 
-# --- vectors, quaternions, matrices: exact sums, one floor --------------------
+# --- vectors, quaternions, matrices: exact sums, one rounding to nearest --------------------
 
 def dot(a, b, st):
-    return _clamp(sum(x * y for x, y in zip(a, b)) >> 16, st)
+    return _clamp(_r16(sum(x * y for x, y in zip(a, b))), st)
 
 
 def cross(a, b, st):
-    return [_clamp((a[1] * b[2] - a[2] * b[1]) >> 16, st),
-            _clamp((a[2] * b[0] - a[0] * b[2]) >> 16, st),
-            _clamp((a[0] * b[1] - a[1] * b[0]) >> 16, st)]
+    return [_clamp(_r16(a[1] * b[2] - a[2] * b[1]), st),
+            _clamp(_r16(a[2] * b[0] - a[0] * b[2]), st),
+            _clamp(_r16(a[0] * b[1] - a[1] * b[0]), st)]
 
 
 def length_sq(a, st):
-    return _clamp(sum(x * x for x in a) >> 16, st)
+    return _clamp(_r16(sum(x * x for x in a)), st)
 
 
 def length(a, st):
-    return _clamp(math.isqrt(sum(x * x for x in a)), st)
+    return _clamp(_rsqrt(sum(x * x for x in a)), st)
 
 
 def normalize(a, st):
-    n = math.isqrt(sum(x * x for x in a))
+    n = _rsqrt(sum(x * x for x in a))
     if n == 0:
         st.add("normalize_zero")
         return [0, 0, 0]
-    return [_clamp((x << 16) // n, st) for x in a]
+    return [_clamp(_rdiv(x << 16, n), st) for x in a]
 
 
 def quat_mul(a, b, st):
     aw, ax, ay, az = a
     bw, bx, by, bz = b
-    return [_clamp((aw * bw - ax * bx - ay * by - az * bz) >> 16, st),
-            _clamp((aw * bx + ax * bw + ay * bz - az * by) >> 16, st),
-            _clamp((aw * by - ax * bz + ay * bw + az * bx) >> 16, st),
-            _clamp((aw * bz + ax * by - ay * bx + az * bw) >> 16, st)]
+    return [_clamp(_r16(aw * bw - ax * bx - ay * by - az * bz), st),
+            _clamp(_r16(aw * bx + ax * bw + ay * bz - az * by), st),
+            _clamp(_r16(aw * by - ax * bz + ay * bw + az * bx), st),
+            _clamp(_r16(aw * bz + ax * by - ay * bx + az * bw), st)]
 
 
 def quat_length_sq(q, st):
-    return _clamp(sum(x * x for x in q) >> 16, st)
+    return _clamp(_r16(sum(x * x for x in q)), st)
 
 
 def quat_normalize(q, st):
     c = [-INT32_MAX if x == INT32_MIN else x for x in q]
-    n = math.isqrt(sum(x * x for x in c))
+    n = _rsqrt(sum(x * x for x in c))
     if n == 0:
         st.add("normalize_zero")
         return [ONE, 0, 0, 0]
-    return [_clamp((x << 16) // n, st) for x in c]
+    return [_clamp(_rdiv(x << 16, n), st) for x in c]
 
 
 def rotation_matrix(q, st):
     w, x, y, z = q
 
     def diag(a, b):  # 1 - 2(a^2 + b^2)
-        return _clamp(((1 << 32) - 2 * a * a - 2 * b * b) >> 16, st)
+        return _clamp(_r16((1 << 32) - 2 * a * a - 2 * b * b), st)
 
     def off(a, b, c, d, sign):  # 2(ab +- cd)
-        return _clamp((2 * a * b + sign * 2 * c * d) >> 16, st)
+        return _clamp(_r16(2 * a * b + sign * 2 * c * d), st)
 
     return [[diag(y, z), off(x, y, w, z, -1), off(x, z, w, y, +1)],
             [off(x, y, w, z, +1), diag(x, z), off(y, z, w, x, -1)],
@@ -174,7 +196,7 @@ def mat_mul_vec(m, v, st):
 
 
 def mat_transpose_mul_vec(m, v, st):
-    return [_clamp(sum(m[j][i] * v[j] for j in range(3)) >> 16, st) for i in range(3)]
+    return [_clamp(_r16(sum(m[j][i] * v[j] for j in range(3))), st) for i in range(3)]
 
 
 def rotate(q, v, st):

@@ -26,10 +26,16 @@ def load(rel):
 class PortRules(unittest.TestCase):
     """Hand-checked values (docs/SPEC.md 0.3), independent of the vector files."""
 
-    def test_floor_not_truncation(self):
+    def test_nearest_ties_to_even_and_sign_symmetric(self):
         st = set()
-        self.assertEqual(q16_port.mul(-1, 1, st), -1)        # -2^-32 floors to -1 ulp
-        self.assertEqual(q16_port.div(-65536, 3 * 65536, st), -21846)  # -1/3 floors
+        self.assertEqual(q16_port.mul(-1, 1, st), 0)          # -2^-16 ulp -> 0
+        self.assertEqual(q16_port.mul(1, 0x8000, st), 0)      # 0.5 ulp: a tie, to even
+        self.assertEqual(q16_port.mul(-1, 0x8000, st), 0)     # -0.5 ulp: to even
+        self.assertEqual(q16_port.mul(3, 0x8000, st), 2)      # 1.5 ulp -> 2
+        self.assertEqual(q16_port.mul(-3, 0x8000, st), -2)    # round(-x) = -round(x)
+        self.assertEqual(q16_port.div(-65536, 3 * 65536, st), -21845)  # -1/3 to nearest
+        self.assertEqual(q16_port.div(65536, 3 * 65536, st), 21845)
+        self.assertEqual(q16_port.sqrt(131072, st), 92682)    # sqrt(2) = 1.41421..: 92681.9 -> 92682
         self.assertEqual(st, set())
 
     def test_ties_to_even(self):

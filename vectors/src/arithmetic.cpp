@@ -61,13 +61,13 @@ const std::vector<Operation>& operations() {
                    return to_json(-a(in, p));
                  }});
     v.push_back(
-        {"mul", {21}, q2, "R = floor(Ra * Rb / 2^16) (arithmetic shift), clamped", [=](In in, const std::string& p) {
+        {"mul", {21}, q2, "R = round(Ra * Rb / 2^16), to nearest, ties to even, clamped", [=](In in, const std::string& p) {
            return to_json(a(in, p) * b(in, p));
          }});
     v.push_back({"div",
                  {},
                  q2,
-                 "R = floor(Ra * 2^16 / Rb), clamped; Rb = 0: INT32_MAX if Ra >= 0 else INT32_MIN, div_by_zero",
+                 "R = round(Ra * 2^16 / Rb), to nearest, ties to even, clamped; Rb = 0: INT32_MAX if Ra >= 0 else INT32_MIN, div_by_zero",
                  [=](In in, const std::string& p) { return to_json(a(in, p) / b(in, p)); }});
     v.push_back({"reciprocal", {}, q1, "div(1.0, a)", [=](In in, const std::string& p) {
                    return to_json(reciprocal(a(in, p)));
@@ -75,7 +75,7 @@ const std::vector<Operation>& operations() {
     v.push_back({"sqrt",
                  {},
                  q1,
-                 "R = floor(sqrt(Ra * 2^16)) exactly; Ra < 0: 0, sqrt_negative",
+                 "R = round(sqrt(Ra * 2^16)) exactly, to nearest (never a tie); Ra < 0: 0, sqrt_negative",
                  [=](In in, const std::string& p) { return to_json(sqrt(a(in, p))); }});
     v.push_back({"abs", {}, q1, "R = |Ra|, clamped (|INT32_MIN| -> INT32_MAX)", [=](In in, const std::string& p) {
                    return to_json(abs(a(in, p)));
@@ -94,49 +94,49 @@ const std::vector<Operation>& operations() {
     v.push_back({"dot",
                  {},
                  sig({{"a", "vec3"}, {"b", "vec3"}}, "q16"),
-                 "floor(sum Ra_i * Rb_i / 2^16): exact sum, one floor, clamped",
+                 "round(sum Ra_i * Rb_i / 2^16): exact sum, one rounding to nearest (ties to even), clamped",
                  [=](In in, const std::string& p) { return to_json(dot(va(in, p), vb(in, p))); }});
     v.push_back({"cross",
                  {51},
                  sig({{"a", "vec3"}, {"b", "vec3"}}, "vec3"),
-                 "each component floor((Ra_j Rb_k - Ra_k Rb_j) / 2^16), clamped",
+                 "each component round((Ra_j Rb_k - Ra_k Rb_j) / 2^16), to nearest, ties to even, clamped",
                  [=](In in, const std::string& p) { return to_json(cross(va(in, p), vb(in, p))); }});
     v.push_back({"length_sq",
                  {},
                  sig({{"a", "vec3"}}, "q16"),
-                 "floor(sum Ra_i^2 / 2^16), clamped",
+                 "round(sum Ra_i^2 / 2^16), to nearest, ties to even, clamped",
                  [=](In in, const std::string& p) { return to_json(length_sq(va(in, p))); }});
     v.push_back({"length",
                  {57},
                  sig({{"a", "vec3"}}, "q16"),
-                 "floor(sqrt(sum Ra_i^2)) exactly, clamped",
+                 "round(sqrt(sum Ra_i^2)) exactly, to nearest, clamped",
                  [=](In in, const std::string& p) { return to_json(length(va(in, p))); }});
     v.push_back(
         {"normalize",
          {36, 60, 68},
          sig({{"a", "vec3"}}, "vec3"),
-         "L = floor(sqrt(sum Ra_i^2)); R_i = floor(Ra_i * 2^16 / L), clamped; L = 0: zero vector, normalize_zero",
+         "L = round(sqrt(sum Ra_i^2)); R_i = round(Ra_i * 2^16 / L) (to nearest, ties to even), clamped; L = 0: zero vector, normalize_zero",
          [=](In in, const std::string& p) { return to_json(normalize(va(in, p))); }});
     v.push_back({"quat_mul",
                  {8},
                  sig({{"a", "quat"}, {"b", "quat"}}, "quat"),
-                 "Hamilton product, each component an exact sum of 4 raw products floored once by 2^16, clamped",
+                 "Hamilton product, each component an exact sum of 4 raw products rounded once by 2^16 (to nearest, ties to even), clamped",
                  [=](In in, const std::string& p) { return to_json(qa(in, p) * quat_at(in, "b", p)); }});
     v.push_back({"quat_length_sq",
                  {},
                  sig({{"a", "quat"}}, "q16"),
-                 "floor(sum Ra_i^2 / 2^16), clamped",
+                 "round(sum Ra_i^2 / 2^16), to nearest, ties to even, clamped",
                  [=](In in, const std::string& p) { return to_json(quat_length_sq(qa(in, p))); }});
     v.push_back({"quat_normalize",
                  {10},
                  sig({{"a", "quat"}}, "quat"),
-                 "components INT32_MIN -> -INT32_MAX; L = floor(sqrt(sum R_i^2)); R_i = floor(R_i * 2^16 / L); L = 0: "
+                 "components INT32_MIN -> -INT32_MAX; L = round(sqrt(sum R_i^2)); R_i = round(R_i * 2^16 / L); L = 0: "
                  "identity, normalize_zero",
                  [=](In in, const std::string& p) { return to_json(normalize(qa(in, p))); }});
     v.push_back({"rotation_matrix",
                  {31},
                  sig({{"a", "quat"}}, "mat3"),
-                 "mat3(q): 1 - 2(y^2 + z^2) = floor((2^32 - 2Ry^2 - 2Rz^2) / 2^16), 2(xy - wz) = floor((2RxRy - 2RwRz) "
+                 "mat3(q): 1 - 2(y^2 + z^2) = round((2^32 - 2Ry^2 - 2Rz^2) / 2^16), 2(xy - wz) = round((2RxRy - 2RwRz) "
                  "/ 2^16), ...",
                  [=](In in, const std::string& p) { return to_json(rotation_matrix(qa(in, p))); }});
     v.push_back({"mat_mul_vec",
@@ -147,7 +147,7 @@ const std::vector<Operation>& operations() {
     v.push_back({"mat_transpose_mul_vec",
                  {90},
                  sig({{"m", "mat3"}, {"v", "vec3"}}, "vec3"),
-                 "component i: floor(sum_j Rm[j][i] * Rv_j / 2^16), clamped",
+                 "component i: round(sum_j Rm[j][i] * Rv_j / 2^16), to nearest, ties to even, clamped",
                  [](In in, const std::string& p) {
                    return to_json(mat_transpose_mul(mat_at(in, "m", p), vec_at(in, "v", p)));
                  }});
@@ -325,17 +325,20 @@ void scalar_cases(const std::string& op, CaseList& L, Rng& rng) {
   auto one = [&](std::int32_t x, const char* c, const char* f) { L.add({{"a", x}}, c, {f}); };
   auto two = [&](std::int32_t x, std::int32_t y, const char* c, const char* f) { L.add({{"a", x}, {"b", y}}, c, {f}); };
   if (op == "mul") {
-    two(1, 1, "2^-32 floors to 0", "Floor");
-    two(-1, 1, "-2^-32 floors to -1 ulp (truncation would give 0)", "Floor");
-    two(-3, 0x8000, "-1.5 ulp floors to -2", "Floor");
+    two(1, 1, "2^-16 ulp rounds to 0", "Rounding");
+    two(-1, 1, "-2^-16 ulp rounds to 0 (floor would give -1 ulp)", "Rounding");
+    two(1, 0x8000, "0.5 ulp: a tie, to even (0)", "Rounding");
+    two(-1, 0x8000, "-0.5 ulp: a tie, to even (0), sign-symmetric", "Rounding");
+    two(3, 0x8000, "1.5 ulp: a tie, to even (2)", "Rounding");
+    two(-3, 0x8000, "-1.5 ulp: a tie, to even (-2)", "Rounding");
     two(11863283, 11863283, "largest square below 2^15: INT32_MAX region", "EdgeValue");
     two(11863284, 11863284, "smallest square beyond 2^15: clamped", "Overflow");
     two(kMin, -kOne, "INT32_MIN * -1: clamped", "Overflow");
     two(kMin, kMin, "INT32_MIN^2: clamped", "Overflow");
   } else if (op == "div") {
-    two(kOne, 3 * kOne, "1/3 floors down", "Floor");
-    two(-kOne, 3 * kOne, "-1/3 floors to the more negative value", "Floor");
-    two(-1, 2 * kOne, "-1 ulp / 2 floors to -1 ulp", "Floor");
+    two(kOne, 3 * kOne, "1/3 rounds to nearest", "Rounding");
+    two(-kOne, 3 * kOne, "-1/3 rounds to nearest: -(1/3)", "Rounding");
+    two(-1, 2 * kOne, "-1 ulp / 2: a tie, to even (0)", "Rounding");
     two(kOne, 0, "x / 0 for x > 0: INT32_MAX", "DivByZero");
     two(0, 0, "0 / 0: INT32_MAX (numerator >= 0)", "DivByZero");
     two(-kOne, 0, "x / 0 for x < 0: INT32_MIN", "DivByZero");
@@ -351,14 +354,14 @@ void scalar_cases(const std::string& op, CaseList& L, Rng& rng) {
     one(kMin, "INT32_MIN: clamped to INT32_MAX", "Overflow");
   } else if (op == "sqrt") {
     one(1, "sqrt(1 ulp) = 2^-8 exactly (raw 256)", "EdgeValue");
-    one(2, "sqrt(2 ulp) floors (raw 362)", "Floor");
-    one(2 * kOne, "sqrt(2) floors (raw 92681)", "Floor");
+    one(2, "sqrt(2 ulp) to nearest (raw 362)", "Rounding");
+    one(2 * kOne, "sqrt(2) to nearest (raw 92682)", "Rounding");
     one(-1, "sqrt(-1 ulp): 0", "SqrtNegative");
     one(kMin, "sqrt(INT32_MIN): 0", "SqrtNegative");
   } else if (op == "reciprocal") {
     one(0, "1 / 0: INT32_MAX", "DivByZero");
-    one(3 * kOne, "1/3 floors", "Floor");
-    one(-3 * kOne, "-1/3 floors to the more negative value", "Floor");
+    one(3 * kOne, "1/3 to nearest", "Rounding");
+    one(-3 * kOne, "-1/3 to nearest: -(1/3)", "Rounding");
     one(1, "1 / 1 ulp: clamped", "Overflow");
   } else if (op == "floor_to_int") {
     one(-1, "-1 ulp floors to -1", "Floor");
@@ -456,8 +459,8 @@ void vector_cases(const std::string& op, CaseList& L, Rng& rng) {
   }
 }
 
-// Tags derived from the result: the status flags raised, and for mul/div a
-// negative inexact result (where floor and truncation differ).
+// Tags derived from the result: the status flags raised, and for mul/div an
+// inexact result (where the rounding to nearest decides).
 void derived_flags(const std::string& op, const Json& in, const Json& result, Json& flags) {
   auto add = [&](const char* f) {
     for (const Json& x : flags)
@@ -471,9 +474,8 @@ void derived_flags(const std::string& op, const Json& in, const Json& result, Js
       if (s == kName[i]) add(kTag[i]);
   if ((op == "mul" || op == "div") && result["status"].empty()) {
     const std::int64_t a = in["a"].get<std::int64_t>(), b = in["b"].get<std::int64_t>();
-    const bool inexact_negative = op == "mul" ? ((a * b) < 0 && ((a * b) & 0xFFFF) != 0)
-                                              : (b != 0 && ((a * 65536) % b) != 0 && ((a < 0) != (b < 0)));
-    if (inexact_negative) add("Floor");
+    const bool inexact = op == "mul" ? (((a * b) & 0xFFFF) != 0) : (b != 0 && ((a * 65536) % b) != 0);
+    if (inexact) add("Rounding");
   }
 }
 
@@ -547,9 +549,10 @@ Json generate_arithmetic() {
        "Operands from the edge set (0, +-1 ulp, +-0.5, +-1, 1 + 1 ulp, 2, 181.02 = sqrt(32768), "
        "+-INT32_MAX, INT32_MIN), every pair for binary operations."},
       {"Random", "Pseudo-random operands (the LCG of vectors/README.md), magnitudes from 1 ulp to the int32 range."},
-      {"Floor",
-       "The exact result is not a multiple of 2^-16 and is negative or floors differently from "
-       "truncation: every dropped bit rounds toward minus infinity."},
+      {"Rounding",
+       "The exact result is not a multiple of 2^-16: it rounds to the nearest multiple, ties to "
+       "the even one (docs/SPEC.md Fix 11), so round(-x) = -round(x)."},
+      {"Floor", "floor_to_int: the grid cell of eq 26 rounds toward minus infinity (an arithmetic shift)."},
       {"TiesToEven",
        "from_double: the scaled value x * 2^16 is exactly halfway (or next to halfway) between two "
        "integers; ties go to the even integer."},

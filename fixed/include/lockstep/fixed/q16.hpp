@@ -3,12 +3,14 @@
 // Rules (fixed/README.md states them for porters; every rule below is tested
 // against exact arithmetic in tests/fixed/):
 //   value      x = R / 2^16, R an int32 (source eq 20).
-//   rounding   every operation that drops bits rounds toward minus infinity
-//              (floor, an arithmetic right shift), source eq 21/23/24. Floor is
-//              chosen over truncation because it is translation invariant
-//              (floor(x + k) = floor(x) + k for integer k, so a body's motion does
-//              not depend on which side of 0 it is) and because it is one shift
-//              in every language.
+//   rounding   every operation that drops bits (product, division, square
+//              root, the exact accumulators of q16_vec.hpp) rounds to
+//              nearest, ties to even (docs/SPEC.md Fix 11 on eqs 21/23/24:
+//              the source's floor biased every product half an ulp towards
+//              minus infinity, and the physics showed it). Ties to even is
+//              unbiased and sign-symmetric, round(-x) = -round(x), so a scene
+//              and its mirror image give mirrored bits; it is also eq 22's
+//              rule. The one floor left is floor_to_int (a grid cell, eq 26).
 //   conversion from double rounds to nearest, ties to even (eq 22), the IEEE
 //              default and Python's round(); the product x * 2^16 is exact.
 //   overflow   never wraps and is never undefined: the exact result is clamped
@@ -61,6 +63,23 @@ constexpr std::int64_t floor_div(std::int64_t n, std::int64_t d) {
   if ((n % d != 0) && ((n < 0) != (d < 0))) --q;
   return q;
 }
+// round(p / 2^16) to nearest, ties to even, exact for every int64 p: the
+// floor q = p >> 16 (arithmetic shift) and the dropped bits r = p & 0xFFFF
+// (two's complement: p = q 2^16 + r, 0 <= r < 2^16); up when r > 2^15, or
+// r = 2^15 and q is odd.
+constexpr std::int64_t round_shift16(std::int64_t p) {
+  const std::int64_t q = p >> 16, r = p & 0xFFFF;
+  return q + ((r > 0x8000 || (r == 0x8000 && (q & 1) != 0)) ? 1 : 0);
+}
+// round(n / d) to nearest, ties to even, d != 0, exact in int64 for
+// |n| < 2^62: the floor q and the remainder r = n - q d, whose size against
+// |d| / 2 decides (2|r| never overflows: |r| < |d| < 2^62).
+constexpr std::int64_t round_div(std::int64_t n, std::int64_t d) {
+  const std::int64_t q = floor_div(n, d);
+  std::int64_t twice = 2 * (n - q * d), den = d;  // d > 0: r in [0, d); d < 0: r in (d, 0]
+  if (d < 0) { twice = -twice; den = -d; }
+  return q + ((twice > den || (twice == den && (q & 1) != 0)) ? 1 : 0);
+}
 // floor(sqrt(n)), exact. The double square root (correctly rounded by IEEE
 // 754, but n itself may round on conversion) is only a first guess; the
 // integer corrections make r the unique value with r^2 <= n < (r + 1)^2,
@@ -73,6 +92,12 @@ inline std::uint64_t isqrt(std::uint64_t n) {
   while (r > n / r) --r;
   while (r + 1 <= n / (r + 1)) ++r;
   return r;
+}
+// round(sqrt(n)) to nearest: r = floor(sqrt(n)), up when n - r^2 > r, i.e.
+// n >= (r + 1/2)^2 + 1/4; sqrt(n) is never r + 1/2 exactly (no ties).
+inline std::uint64_t isqrt_round(std::uint64_t n) {
+  const std::uint64_t r = isqrt(n);
+  return n - r * r > r ? r + 1 : r;
 }
 }  // namespace q16detail
 
@@ -111,11 +136,13 @@ class Q16 {
   }
   // -INT32_MIN clamps to INT32_MAX (kQ16Overflow).
   friend Q16 operator-(Q16 a) { return from_raw(q16detail::saturate(-std::int64_t{a.raw_})); }
-  // eq 21: floor(Ra * Rb / 2^16): exact int64 product, arithmetic shift, clamp.
+  // eq 21 (Fix 11): round(Ra * Rb / 2^16), to nearest, ties to even: exact
+  // int64 product, round_shift16, clamp.
   friend Q16 operator*(Q16 a, Q16 b) {
-    return from_raw(q16detail::saturate((std::int64_t{a.raw_} * b.raw_) >> 16));
+    return from_raw(q16detail::saturate(q16detail::round_shift16(std::int64_t{a.raw_} * b.raw_)));
   }
-  // floor(Ra * 2^16 / Rb), exact in int64, clamped. Division by zero: kQ16DivByZero,
+  // round(Ra * 2^16 / Rb), to nearest, ties to even, exact in int64, clamped
+  // (eq 24, Fix 11). Division by zero: kQ16DivByZero,
   // result INT32_MAX for a >= 0 and INT32_MIN for a < 0.
   friend Q16 operator/(Q16 a, Q16 b) {
     if (b.raw_ == 0) {
@@ -124,7 +151,7 @@ class Q16 {
                                   : static_cast<std::int32_t>(q16detail::kMin));
     }
     return from_raw(q16detail::saturate(
-        q16detail::floor_div(std::int64_t{a.raw_} * kOneRaw, b.raw_)));
+        q16detail::round_div(std::int64_t{a.raw_} * kOneRaw, b.raw_)));
   }
   Q16& operator+=(Q16 b) { return *this = *this + b; }
   Q16& operator-=(Q16 b) { return *this = *this - b; }
@@ -139,12 +166,13 @@ class Q16 {
 inline Q16 abs(Q16 a) { return a.raw() < 0 ? -a : a; }
 constexpr Q16 min(Q16 a, Q16 b) { return b < a ? b : a; }
 constexpr Q16 max(Q16 a, Q16 b) { return a < b ? b : a; }
-// floor(sqrt(R * 2^16)): the exact square root, floored. sqrt(x < 0) = 0 with
-// kQ16SqrtNegative. Never overflows (sqrt(2^47) < 2^24).
+// round(sqrt(R * 2^16)): the exact square root, rounded to nearest (Fix 11;
+// never a tie). sqrt(x < 0) = 0 with kQ16SqrtNegative. Never overflows
+// (sqrt(2^47) < 2^24).
 inline Q16 sqrt(Q16 a) {
   if (a.raw() < 0) { q16detail::raise(kQ16SqrtNegative); return Q16{}; }
   return Q16::from_raw(static_cast<std::int32_t>(
-      q16detail::isqrt(static_cast<std::uint64_t>(a.raw()) << 16)));
+      q16detail::isqrt_round(static_cast<std::uint64_t>(a.raw()) << 16)));
 }
 // 1 / a, same rule as division.
 inline Q16 reciprocal(Q16 a) { return Q16::from_raw(Q16::kOneRaw) / a; }

@@ -1,7 +1,7 @@
 // Vector, quaternion and matrix operations on Q16.16 that accumulate exact
 // products and round once (the source's "fixed ordering and integer
-// accumulators"). Each output component is floor(sum of exact raw products /
-// 2^16), clamped to int32 with kQ16Overflow; the error of each is stated
+// accumulators"). Each output component is round(sum of exact raw products /
+// 2^16), to nearest, ties to even (Fix 11), clamped to int32 with kQ16Overflow; the error of each is stated
 // beside it in ulps (1 ulp = 2^-16) and tested against exact arithmetic in
 // tests/fixed/q16_vec_test.cpp.
 #pragma once
@@ -13,7 +13,8 @@
 
 namespace lockstep {
 
-// Exact sum of int64 products, floored by 2^16 once at the end. Each product p
+// Exact sum of int64 products, rounded by 2^16 once at the end (to nearest,
+// ties to even, as q16detail::round_shift16). Each product p
 // is split as p = (p >> 16) * 2^16 + (p & 0xFFFF) (two's complement, exact), so
 // neither partial sum can overflow for up to 2^15 terms.
 class Q16Accumulator {
@@ -22,9 +23,14 @@ class Q16Accumulator {
   void sub_product(std::int32_t a, std::int32_t b) { add(-(std::int64_t{a} * b)); }
   // Adds a raw value r (scale 2^16) exactly: r * 2^16 in product scale.
   void add_raw(std::int32_t r) { high_ += r; }
-  // floor(sum / 2^16) as an exact int64.
-  std::int64_t floor_result() const { return high_ + (low_ >> 16); }
-  Q16 result() const { return Q16::from_raw(q16detail::saturate(floor_result())); }
+  // round(sum / 2^16), to nearest, ties to even, as an exact int64: the sum
+  // is high_ 2^16 + low_ with low_ >= 0, so its floor is high_ + (low_ >> 16)
+  // and the dropped bits are low_ & 0xFFFF.
+  std::int64_t round_result() const {
+    const std::int64_t q = high_ + (low_ >> 16), r = low_ & 0xFFFF;
+    return q + ((r > 0x8000 || (r == 0x8000 && (q & 1) != 0)) ? 1 : 0);
+  }
+  Q16 result() const { return Q16::from_raw(q16detail::saturate(round_result())); }
 
  private:
   void add(std::int64_t p) {  // -(a*b) cannot overflow: |a*b| <= 2^62
@@ -61,15 +67,16 @@ inline std::uint64_t raw_length_sq(const Vec3<Q16>& a) {
   };
   return sq(a.x) + sq(a.y) + sq(a.z);
 }
-// |a|^2 = floor(sum R_i^2 / 2^16), clamped.
+// |a|^2 = round(sum R_i^2 / 2^16), to nearest, ties to even, clamped.
 inline Q16 length_sq(const Vec3<Q16>& a) {
-  const std::uint64_t s = raw_length_sq(a) >> 16;
+  const std::uint64_t full = raw_length_sq(a), q = full >> 16, r = full & 0xFFFF;
+  const std::uint64_t s = q + ((r > 0x8000 || (r == 0x8000 && (q & 1) != 0)) ? 1 : 0);
   return Q16::from_raw(q16detail::saturate(s > 0x7FFFFFFFull ? q16detail::kMax + 1
                                                              : static_cast<std::int64_t>(s)));
 }
-// |a| = floor(sqrt(sum R_i^2)) exactly (one rounding), clamped.
+// |a| = round(sqrt(sum R_i^2)) exactly (one rounding, to nearest), clamped.
 inline Q16 length(const Vec3<Q16>& a) {
-  const std::uint64_t r = q16detail::isqrt(raw_length_sq(a));
+  const std::uint64_t r = q16detail::isqrt_round(raw_length_sq(a));
   return Q16::from_raw(q16detail::saturate(static_cast<std::int64_t>(r)));
 }
 // a / |a| with L = floor(sqrt(sum R_i^2)) and n_i = floor(R_i * 2^16 / L): two
@@ -79,14 +86,14 @@ inline Q16 length(const Vec3<Q16>& a) {
 // bits). |n_i| <= 2^16, so it never clamps. A zero vector raises
 // kQ16NormalizeZero and returns zero.
 inline Vec3<Q16> normalize(const Vec3<Q16>& a) {
-  const std::uint64_t len = q16detail::isqrt(raw_length_sq(a));
+  const std::uint64_t len = q16detail::isqrt_round(raw_length_sq(a));
   if (len == 0) {
     q16detail::raise(kQ16NormalizeZero);
     return {};
   }
   const auto l = static_cast<std::int64_t>(len);
   auto div = [l](Q16 v) {
-    return Q16::from_raw(q16detail::saturate(q16detail::floor_div(std::int64_t{v.raw()} * 65536, l)));
+    return Q16::from_raw(q16detail::saturate(q16detail::round_div(std::int64_t{v.raw()} * 65536, l)));
   };
   return {div(a.x), div(a.y), div(a.z)};
 }
@@ -123,14 +130,14 @@ inline Quat<Q16> normalize(const Quat<Q16>& q) {
   const std::int64_t c[4] = {lift(q.w), lift(q.x), lift(q.y), lift(q.z)};
   std::uint64_t s = 0;
   for (std::int64_t v : c) s += static_cast<std::uint64_t>(v * v);
-  const std::uint64_t len = q16detail::isqrt(s);
+  const std::uint64_t len = q16detail::isqrt_round(s);
   if (len == 0) {
     q16detail::raise(kQ16NormalizeZero);
     return {Q16::from_raw(Q16::kOneRaw), Q16{}, Q16{}, Q16{}};
   }
   const auto l = static_cast<std::int64_t>(len);
   auto div = [l](std::int64_t v) {
-    return Q16::from_raw(q16detail::saturate(q16detail::floor_div(v * 65536, l)));
+    return Q16::from_raw(q16detail::saturate(q16detail::round_div(v * 65536, l)));
   };
   return {div(c[0]), div(c[1]), div(c[2]), div(c[3])};
 }
