@@ -109,7 +109,10 @@ inline Int round_half_even(const Rat& r) {
 }
 
 // round(n / d) to nearest, ties to even (the Q16 rule, Fix 11), d != 0.
-inline Int round_div_even(const Int& n, const Int& d) { return d < 0 ? round_half_even(Rat(-n, -d)) : round_half_even(Rat(n, d)); }
+inline Int round_div_even(const Int& n, const Int& d) {
+  const Rat r = d < 0 ? Rat(Int(-n), Int(-d)) : Rat(n, d);
+  return round_half_even(r);
+}
 // round(sqrt(n)) to nearest for n >= 0: r = floor(sqrt(n)) or r + 1,
 // whichever is nearer: r + 1 when sqrt(n) > r + 1/2, i.e. 4n > (2r + 1)^2
 // (never equal: the left side is even, the right odd).
