@@ -23,6 +23,13 @@
 #include <cstdint>
 #include <limits>
 
+// Forced inlining of the hot Q16 primitives (GCC and clang; others inline at will).
+#if defined(__GNUC__) || defined(__clang__)
+#define LOCKSTEP_Q16_INLINE inline __attribute__((always_inline))
+#else
+#define LOCKSTEP_Q16_INLINE inline
+#endif
+
 namespace lockstep {
 
 // Sticky status flags raised by Q16 operations (bitwise OR).
@@ -52,7 +59,7 @@ constexpr std::int64_t kMax = std::numeric_limits<std::int32_t>::max();
 constexpr std::int64_t kMin = std::numeric_limits<std::int32_t>::min();
 inline void raise(std::uint32_t f) { q16_status_word |= f; }
 // Clamp an exact int64 result into int32, raising kQ16Overflow when it clamps.
-inline std::int32_t saturate(std::int64_t v) {
+LOCKSTEP_Q16_INLINE std::int32_t saturate(std::int64_t v) {
   if (v > kMax) { raise(kQ16Overflow); return static_cast<std::int32_t>(kMax); }
   if (v < kMin) { raise(kQ16Overflow); return static_cast<std::int32_t>(kMin); }
   return static_cast<std::int32_t>(v);
@@ -63,22 +70,26 @@ constexpr std::int64_t floor_div(std::int64_t n, std::int64_t d) {
   if ((n % d != 0) && ((n < 0) != (d < 0))) --q;
   return q;
 }
-// round(p / 2^16) to nearest, ties to even, exact for every int64 p: the
+// round(p / 2^16) to nearest, ties to even, exact for |p| <= 2^62: with the
 // floor q = p >> 16 (arithmetic shift) and the dropped bits r = p & 0xFFFF
-// (two's complement: p = q 2^16 + r, 0 <= r < 2^16); up when r > 2^15, or
-// r = 2^15 and q is odd.
+// (two's complement: p = q 2^16 + r, 0 <= r < 2^16), the result is q + 1 when
+// r > 2^15, or r = 2^15 and q is odd; branch-free, that is
+// (p + 2^15 - 1 + (q & 1)) >> 16.
 constexpr std::int64_t round_shift16(std::int64_t p) {
-  const std::int64_t q = p >> 16, r = p & 0xFFFF;
-  return q + ((r > 0x8000 || (r == 0x8000 && (q & 1) != 0)) ? 1 : 0);
+  return (p + 0x7FFF + ((p >> 16) & 1)) >> 16;
 }
 // round(n / d) to nearest, ties to even, d != 0, exact in int64 for
-// |n| < 2^62: the floor q and the remainder r = n - q d, whose size against
-// |d| / 2 decides (2|r| never overflows: |r| < |d| < 2^62).
+// |n|, |d| < 2^62. Ties to even is sign-symmetric (round(-x) = -round(x)), so
+// it is computed on |n| / |d| with one unsigned division: the quotient q and
+// remainder r, up when 2r > |d|, or 2r = |d| and q is odd; then the sign.
 constexpr std::int64_t round_div(std::int64_t n, std::int64_t d) {
-  const std::int64_t q = floor_div(n, d);
-  std::int64_t twice = 2 * (n - q * d), den = d;  // d > 0: r in [0, d); d < 0: r in (d, 0]
-  if (d < 0) { twice = -twice; den = -d; }
-  return q + ((twice > den || (twice == den && (q & 1) != 0)) ? 1 : 0);
+  const bool negative = (n < 0) != (d < 0);
+  const std::uint64_t un = n < 0 ? 0 - static_cast<std::uint64_t>(n) : static_cast<std::uint64_t>(n);
+  const std::uint64_t ud = d < 0 ? 0 - static_cast<std::uint64_t>(d) : static_cast<std::uint64_t>(d);
+  std::uint64_t q = un / ud;
+  const std::uint64_t twice = 2 * (un - q * ud);
+  q += (twice > ud || (twice == ud && (q & 1) != 0)) ? 1 : 0;
+  return negative ? -static_cast<std::int64_t>(q) : static_cast<std::int64_t>(q);
 }
 // floor(sqrt(n)), exact. The double square root (correctly rounded by IEEE
 // 754, but n itself may round on conversion) is only a first guess; the
@@ -128,23 +139,23 @@ class Q16 {
   friend constexpr auto operator<=>(Q16 a, Q16 b) { return a.raw_ <=> b.raw_; }
 
   // Exact sum, clamped.
-  friend Q16 operator+(Q16 a, Q16 b) {
+  friend LOCKSTEP_Q16_INLINE Q16 operator+(Q16 a, Q16 b) {
     return from_raw(q16detail::saturate(std::int64_t{a.raw_} + b.raw_));
   }
-  friend Q16 operator-(Q16 a, Q16 b) {
+  friend LOCKSTEP_Q16_INLINE Q16 operator-(Q16 a, Q16 b) {
     return from_raw(q16detail::saturate(std::int64_t{a.raw_} - b.raw_));
   }
   // -INT32_MIN clamps to INT32_MAX (kQ16Overflow).
-  friend Q16 operator-(Q16 a) { return from_raw(q16detail::saturate(-std::int64_t{a.raw_})); }
+  friend LOCKSTEP_Q16_INLINE Q16 operator-(Q16 a) { return from_raw(q16detail::saturate(-std::int64_t{a.raw_})); }
   // eq 21 (Fix 11): round(Ra * Rb / 2^16), to nearest, ties to even: exact
   // int64 product, round_shift16, clamp.
-  friend Q16 operator*(Q16 a, Q16 b) {
+  friend LOCKSTEP_Q16_INLINE Q16 operator*(Q16 a, Q16 b) {
     return from_raw(q16detail::saturate(q16detail::round_shift16(std::int64_t{a.raw_} * b.raw_)));
   }
   // round(Ra * 2^16 / Rb), to nearest, ties to even, exact in int64, clamped
   // (eq 24, Fix 11). Division by zero: kQ16DivByZero,
   // result INT32_MAX for a >= 0 and INT32_MIN for a < 0.
-  friend Q16 operator/(Q16 a, Q16 b) {
+  friend LOCKSTEP_Q16_INLINE Q16 operator/(Q16 a, Q16 b) {
     if (b.raw_ == 0) {
       q16detail::raise(kQ16DivByZero);
       return from_raw(a.raw_ >= 0 ? static_cast<std::int32_t>(q16detail::kMax)

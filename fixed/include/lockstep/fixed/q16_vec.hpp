@@ -19,21 +19,21 @@ namespace lockstep {
 // neither partial sum can overflow for up to 2^15 terms.
 class Q16Accumulator {
  public:
-  void add_product(std::int32_t a, std::int32_t b) { add(std::int64_t{a} * b); }
-  void sub_product(std::int32_t a, std::int32_t b) { add(-(std::int64_t{a} * b)); }
+  LOCKSTEP_Q16_INLINE void add_product(std::int32_t a, std::int32_t b) { add(std::int64_t{a} * b); }
+  LOCKSTEP_Q16_INLINE void sub_product(std::int32_t a, std::int32_t b) { add(-(std::int64_t{a} * b)); }
   // Adds a raw value r (scale 2^16) exactly: r * 2^16 in product scale.
   void add_raw(std::int32_t r) { high_ += r; }
   // round(sum / 2^16), to nearest, ties to even, as an exact int64: the sum
   // is high_ 2^16 + low_ with low_ >= 0, so its floor is high_ + (low_ >> 16)
   // and the dropped bits are low_ & 0xFFFF.
-  std::int64_t round_result() const {
+  LOCKSTEP_Q16_INLINE std::int64_t round_result() const {
     const std::int64_t q = high_ + (low_ >> 16), r = low_ & 0xFFFF;
-    return q + ((r > 0x8000 || (r == 0x8000 && (q & 1) != 0)) ? 1 : 0);
+    return q + ((r + 0x7FFF + (q & 1)) >> 16);  // +1 when r > 2^15, or r = 2^15 and q is odd
   }
-  Q16 result() const { return Q16::from_raw(q16detail::saturate(round_result())); }
+  LOCKSTEP_Q16_INLINE Q16 result() const { return Q16::from_raw(q16detail::saturate(round_result())); }
 
  private:
-  void add(std::int64_t p) {  // -(a*b) cannot overflow: |a*b| <= 2^62
+  LOCKSTEP_Q16_INLINE void add(std::int64_t p) {  // -(a*b) cannot overflow: |a*b| <= 2^62
     high_ += p >> 16;
     low_ += p & 0xFFFF;
   }
@@ -42,7 +42,7 @@ class Q16Accumulator {
 };
 
 // a.b: exact sum, one floor. Error in [0, 1) ulp below the exact value.
-inline Q16 dot(const Vec3<Q16>& a, const Vec3<Q16>& b) {
+LOCKSTEP_Q16_INLINE Q16 dot(const Vec3<Q16>& a, const Vec3<Q16>& b) {
   Q16Accumulator acc;
   acc.add_product(a.x.raw(), b.x.raw());
   acc.add_product(a.y.raw(), b.y.raw());
@@ -50,7 +50,7 @@ inline Q16 dot(const Vec3<Q16>& a, const Vec3<Q16>& b) {
   return acc.result();
 }
 // eq 51: a x b, each component an exact difference of products, one floor.
-inline Vec3<Q16> cross(const Vec3<Q16>& a, const Vec3<Q16>& b) {
+LOCKSTEP_Q16_INLINE Vec3<Q16> cross(const Vec3<Q16>& a, const Vec3<Q16>& b) {
   auto comp = [](Q16 p, Q16 q, Q16 r, Q16 s) {
     Q16Accumulator acc;
     acc.add_product(p.raw(), q.raw());
@@ -170,11 +170,11 @@ inline Mat3<Q16> rotation_matrix(const Quat<Q16>& q) {
            {off(x, y, w, z, true), diag(x, z), off(y, z, w, x, false)},
            {off(x, z, w, y, false), off(y, z, w, x, true), diag(x, y)}}};
 }
-inline Vec3<Q16> operator*(const Mat3<Q16>& m, const Vec3<Q16>& v) {
+LOCKSTEP_Q16_INLINE Vec3<Q16> operator*(const Mat3<Q16>& m, const Vec3<Q16>& v) {
   return {dot(m.row[0], v), dot(m.row[1], v), dot(m.row[2], v)};
 }
 // m^T v: column sums, exact, one floor each.
-inline Vec3<Q16> mat_transpose_mul(const Mat3<Q16>& m, const Vec3<Q16>& v) {
+LOCKSTEP_Q16_INLINE Vec3<Q16> mat_transpose_mul(const Mat3<Q16>& m, const Vec3<Q16>& v) {
   Vec3<Q16> out;
   for (int i = 0; i < 3; ++i) {
     Q16Accumulator acc;
