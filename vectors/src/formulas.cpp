@@ -9,6 +9,8 @@
 #include <functional>
 
 #include "lockstep/physics/aabb.hpp"
+#include "lockstep/physics/body_step.hpp"
+#include "lockstep/physics/box_box.hpp"
 #include "lockstep/physics/contact.hpp"
 #include "lockstep/physics/integrate.hpp"
 #include "lockstep/physics/params.hpp"
@@ -182,6 +184,28 @@ Json f_contact_target_velocity(In in, const std::string& p) {
                                                          q16_at(in, "g_n", p), q16_at(in, "dt", p),
                                                          q16_at(in, "inv_dt", p)))}};
 }
+// eqs 100-106 through the engine's box_box_manifold: the contact manifold of
+// box a and box b (centres, rotation matrices, half extents) within tol.
+Json f_box_box_manifold(In in, const std::string& p) {
+  const BoxManifold<Q16> m = box_box_manifold(vec_at(in, "pa", p), mat_at(in, "Ra", p), vec_at(in, "ha", p),
+                                              vec_at(in, "pb", p), mat_at(in, "Rb", p), vec_at(in, "hb", p),
+                                              q16_at(in, "tol", p));
+  Json pts = Json::array();
+  for (int k = 0; k < m.count; ++k)
+    pts.push_back(Json{{"point", to_json(m.point[k])}, {"penetration", to_json(m.penetration[k])}, {"feature", m.feature[k]}});
+  return Json{{"count", m.count}, {"n", to_json(m.n)}, {"points", pts}};
+}
+// eq 107: a body's speculative reach in one step.
+Json f_speculative_reach(In in, const std::string& p) {
+  return Json{{"reach", to_json(speculative_reach(vec_at(in, "v", p), vec_at(in, "w", p), vec_at(in, "h", p),
+                                                  q16_at(in, "dt", p)))}};
+}
+// eq 108: has the supporter carried the support point beyond the distance?
+Json f_support_moved(In in, const std::string& p) {
+  return Json{{"moved", support_moved(vec_at(in, "p", p), mat_at(in, "R", p), vec_at(in, "local", p),
+                                      vec_at(in, "rest", p), q16_at(in, "distance", p))}};
+}
+
 // The most points of one manifold: 8 ground corners or 9 samples of one SDF
 // volume (eq 93), as World<T>::solve_contacts passes them.
 constexpr int kManifoldPoints = 9;
@@ -499,6 +523,23 @@ const std::vector<Formula>& formulas() {
        "(60) times split if |v_tan| > 0 (57), else 1; (95) with k_t, mu and the point's j_n; then every non-zero "
        "dJ is applied in points order (87). Counts: points visited, normal and friction impulses applied",
        f_manifold_visit},
+      {"box_box_manifold",
+       {100, 101, 102, 103, 104, 105, 106},
+       "docs/SPEC.md 2.4: separating axes (100) on a's 3 face axes, b's 3, then the 9 edge pairs A_i x B_j "
+       "(i outer; skipped when |A_i x B_j| <= 1/64), any s > tol: count 0; a's face unless b's separates by "
+       "0.05 |s_a| + 0.0005 more (101); an edge pair only if it separates by that margin more than the face (102). "
+       "Face: the incident face (103) clipped against the reference face's side planes +a1, -a1, +a2, -a2 (104) "
+       "with feature ids, points with depth > -tol kept, at most 4 (105), each halfway to the reference face. "
+       "Edge: one point midway between the closest points of the two edges (106), penetration -s_e",
+       f_box_box_manifold},
+      {"speculative_reach",
+       {107},
+       "(min(max_abs(v), 64) + (max_abs(w) > 64 / (3 max_abs(h)) ? 64 : max_abs(w) * (3 max_abs(h)))) * dt",
+       f_speculative_reach},
+      {"support_moved",
+       {108},
+       "max_abs((p + R * local) - rest) > distance",
+       f_support_moved},
   };
   return all;
 }
@@ -703,6 +744,33 @@ std::vector<Case> cases_for(const std::string& fn, Rng& rng) {
       in = {{"counter", k + 4 * (k / 6)}, {"drowsy_frames", P.drowsy_frames}, {"sleep_frames", P.sleep_frames}};
       add(in, "", {"Sweep"});
       continue;
+    } else if (fn == "box_box_manifold") {
+      // Two boxes near each other: resting tilted on top (face contacts), or
+      // anywhere around (faces and edges), some beyond the tolerance.
+      const V ha = rng.vec(0.1, 1), hb = rng.vec(0.1, 1);
+      const bool stacked = k % 2 == 0;
+      const Qt qa = stacked ? normalize(Qt{Q16::from_raw(kOne), rng.q16(-0.02, 0.02), rng.q16(-0.5, 0.5), rng.q16(-0.02, 0.02)})
+                            : rng.unit_quat();
+      const Qt qb = stacked ? normalize(Qt{Q16::from_raw(kOne), rng.q16(-0.02, 0.02), rng.q16(-0.5, 0.5), rng.q16(-0.02, 0.02)})
+                            : rng.unit_quat();
+      const V pa = rng.vec(-3, 3);
+      const V pb = stacked ? pa + V{rng.q16(-0.2, 0.2), ha.y + hb.y + rng.q16(-0.03, 0.012), rng.q16(-0.2, 0.2)}
+                           : pa + rng.vec(-1.6, 1.6);
+      in = {{"pa", to_json(pa)}, {"Ra", to_json(rotation_matrix(qa))}, {"ha", to_json(ha)},
+            {"pb", to_json(pb)}, {"Rb", to_json(rotation_matrix(qb))}, {"hb", to_json(hb)},
+            {"tol", to_json(k % 3 == 0 ? rng.q16(0.01, 0.2) : P.contact_tolerance)}};
+      add(in, stacked ? "b resting on a, tilted" : "b anywhere around a");
+      continue;
+    } else if (fn == "speculative_reach") {
+      in = {{"v", random_raw_vec(rng, -80, 80)}, {"w", random_raw_vec(rng, k % 2 ? -200 : -5, k % 2 ? 200 : 5)},
+            {"h", to_json(k % 4 == 3 ? rng.vec(100, 1000) : rng.vec(0.01, 2))}, {"dt", to_json(P.dt)}};
+    } else if (fn == "support_moved") {
+      const Qt q = rng.unit_quat();
+      const V local = rng.vec(-1, 1), p0 = rng.vec(-10, 10);
+      const V rest = p0 + rotation_matrix(q) * local;
+      const V moved = p0 + V{rng.q16(-0.01, 0.01), rng.q16(-0.01, 0.01), rng.q16(-0.01, 0.01)};
+      in = {{"p", to_json(k % 3 == 0 ? p0 : moved)}, {"R", to_json(rotation_matrix(q))}, {"local", to_json(local)},
+            {"rest", to_json(rest)}, {"distance", to_json(P.wake_support_distance)}};
     } else if (fn == "wakes") {
       in = {{"v_n", to_json(rng.q16(-0.5, 0.2))}, {"penetration", to_json(rng.q16(0, 0.04))}};
     } else if (fn == "sdf_sample") {
