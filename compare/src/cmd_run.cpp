@@ -127,10 +127,13 @@ int run_command(const RunOptions& o) {
     std::fputs(line, out_path == "-" ? stderr : stdout);
     return 0;
   }
-  std::printf("scene %s, engine %s: %d frames, %d bodies, %.3f ms/step (stepping only), final hash %s, ", scene.name.c_str(),
-              o.engine.c_str(), engine->frame(), engine->body_count(), ms, hash_hex(engine->state_hash()).c_str());
-  if (asleep_at >= 0) std::printf("all asleep at frame %d\n", asleep_at);
-  else std::printf("not all asleep\n");
+  // The summary; on stderr when the trajectory goes to stdout.
+  std::FILE* summary = out_path == "-" ? stderr : stdout;
+  std::fprintf(summary, "scene %s, engine %s: %d frames, %d bodies, %.3f ms/step (stepping only), final hash %s, ",
+               scene.name.c_str(), o.engine.c_str(), engine->frame(), engine->body_count(), ms,
+               hash_hex(engine->state_hash()).c_str());
+  if (asleep_at >= 0) std::fprintf(summary, "all asleep at frame %d\n", asleep_at);
+  else std::fprintf(summary, "not all asleep\n");
   if (out_path != "-")
     std::printf("trajectory: %s%s\n", out_path.c_str(),
                 hashes ? (", hashes: " + out_path + ".hashes, run record: " + record_path).c_str() : "");

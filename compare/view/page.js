@@ -502,7 +502,7 @@
   chart('chart-contacts', 'contacts per frame', 'contacts', runs.map((r, i) => ds(i, series(r.contact_count))));
 
   // ---- playback ---------------------------------------------------------------
-  let last = null;
+  let last = null, ticks = 0;
   function tick(now) {
     if (playing && last !== null) {
       const speed = +$('speed').value;
@@ -512,12 +512,17 @@
       if (playFrame >= keptFrames[keptFrames.length - 1]) { playing = true; togglePlay(); }
     }
     last = now;
+    if (++ticks % 30 === 0) status();  // errors raised after load show too
     requestAnimationFrame(tick);
   }
 
-  // #frame=N, #mode=side, #play in the address pick the first view.
+  // #frame=N, #mode=side, #select=RUN,BODY, #play in the address pick the first view.
   const params = new URLSearchParams(location.hash.slice(1));
   if (params.get('mode') === 'side' && runs.length > 1) { mode = 'side'; $('mode').value = 'side'; }
+  if (params.has('select')) {
+    const [r, b] = params.get('select').split(',').map(Number);
+    if (runs[r] && b >= 0 && b < N) selected = { run: r, body: b };
+  }
   columnLabels();
   resize();
   setFrame(params.has('frame') ? +params.get('frame') : 0);
