@@ -74,8 +74,10 @@ int compare_command(const CompareArgs& a) {
   const bool page = !a.no_report && !a.no_page;
   const int stride = compare::view_stride(scene.frames, static_cast<int>(scene.bodies.size()), static_cast<int>(engines.size()),
                                           static_cast<std::size_t>(a.page_mb) << 20);
+  // Contacts of every kept frame too when they stay small (at most 10^5 body-frames).
+  const bool contacts = static_cast<long long>(scene.bodies.size()) * (scene.frames / stride + 1) <= 100'000;
   std::vector<compare::ViewRecorder> views;
-  for (const std::string& e : engines) views.emplace_back(e, e, false);
+  for (const std::string& e : engines) views.emplace_back(e, e, contacts);
   if (page)
     opts.observe = [&](int e, const EngineRun& run) {
       views[static_cast<std::size_t>(e)].add(run, run.frame() % stride == 0 || run.frame() == scene.frames);
@@ -117,7 +119,7 @@ int compare_command(const CompareArgs& a) {
       view.comparison = std::move(c);
       compare::write_file(dir + "/index.html", compare::view_html(view, compare::load_view_libraries()));
       page_note = ", index.html (the replay page: " + std::to_string(compare::view_data_bytes(view) >> 10) +
-                  " KiB of trajectories, " + (stride == 1 ? std::string("every frame") : "every " + std::to_string(stride) + "th frame") + ")";
+                  " KiB of trajectories, " + (stride == 1 ? std::string("every frame") : "1 frame in " + std::to_string(stride)) + ")";
     }
     std::printf("report: %s/ (summary.txt, frames.csv, bodies.csv, checks.csv, sleep.csv, statistics.csv, "
                 "divergence.svg, divergence_orientation.svg, energy.svg, sleep_timeline.svg%s)\n", dir.c_str(),

@@ -65,7 +65,7 @@ int view_command(const ViewArgs& a) {
   std::printf("view: %s (%zu run%s of scene '%s', %zu bodies, %zu frames kept%s; %.2f MiB of trajectories as float32, "
               "page %.2f MiB)\n",
               out.c_str(), page.runs.size(), page.runs.size() == 1 ? "" : "s", page.scene.name.c_str(), page.scene.bodies.size(),
-              kept, stride == 1 ? "" : (", every " + std::to_string(stride) + "th written frame").c_str(),
+              kept, stride == 1 ? "" : (", 1 written frame in " + std::to_string(stride)).c_str(),
               static_cast<double>(compare::view_data_bytes(page)) / (1 << 20), static_cast<double>(html.size()) / (1 << 20));
   if (page.comparison) {
     const compare::ViewComparison& c = *page.comparison;

@@ -134,7 +134,7 @@
   scene.add(selection);
 
   const camera = new THREE.PerspectiveCamera(45, 1, 0.05, 2000 + 20 * radius);
-  camera.position.set(center.x + 1.3 * radius * 1.6, center.y + 0.9 * radius * 1.6, center.z + 1.6 * radius * 1.6);
+  camera.position.set(center.x + 1.3 * radius * 1.2, center.y + 0.9 * radius * 1.2, center.z + 1.6 * radius * 1.2);
   const controls = new THREE.OrbitControls(camera, renderer.domElement);
   controls.target.copy(center);
   controls.update();
@@ -172,7 +172,7 @@
       }
       out[r] = set;
     }
-    if (any) out[0] = union;
+    if (any && mode === 'side') out[0] = union;  // side by side: marked in every column
     return out;
   }
 
@@ -204,8 +204,8 @@
       const ghost = mode === 'overlay' && r > 0;
       for (const kind in run.meshes) {
         const m = run.meshes[kind].material;
-        m.transparent = ghost && kind !== 'diverged';
-        m.opacity = m.transparent ? 0.35 : 1;
+        m.transparent = ghost;
+        m.opacity = !ghost ? 1 : kind === 'diverged' ? 0.6 : 0.35;
         m.depthWrite = !m.transparent;
       }
     }
@@ -252,7 +252,7 @@
   $('title').textContent = D.title;
   const mib = (D.data_bytes / (1 << 20)).toFixed(2);
   $('summary').textContent = 'scene ' + S.name + ': ' + N + ' bodies, frames 0-' + keptFrames[keptFrames.length - 1] +
-    (D.stride > 1 ? ', every ' + D.stride + 'th kept frame' : '') + '; trajectories ' + mib + ' MiB (float32). ' +
+    (D.stride > 1 ? ' (1 frame in ' + D.stride + ' kept)' : '') + '; trajectories ' + mib + ' MiB (float32). ' +
     (C ? C.note : '');
   $('legend').innerHTML = '<span><i style="background:#4f9dff"></i>awake</span><span><i style="background:#8a7fb0"></i>asleep</span>' +
     '<span><i style="background:#6b6f78"></i>static</span>' + (C ? '<span><i style="background:#ff3b3b"></i>beyond ' +
@@ -327,7 +327,7 @@
     }
     const cs = run.contacts[String(run.frames[k])];
     if (!cs) {
-      lines.push('contacts     not recorded for this frame (lockstep run --contacts records them)');
+      lines.push('contacts     not recorded for this frame (lockstep run --contacts; compare records them for small scenes)');
     } else {
       const mine = cs.filter((c) => c[0] === i || c[1] === i);
       lines.push('contacts     ' + mine.length + (mine.length ? ' (other, point, normal, penetration):' : ''));
@@ -355,12 +355,13 @@
     let boxes = 0;
     for (const run of runs) for (const kind in run.meshes) boxes += run.meshes[kind].count;
     const st = { ready: true, frame: frameOf(current), index: current, boxes: boxes, bodies: N, runs: runs.length,
-      markers: markers, errors: window.lockstepErrors.slice() };
+      markers: markers, errors: window.lockstepErrors.slice(), bench: benchResult };
     $('lockstep-status').textContent = JSON.stringify(st);
     return st;
   }
 
   let charts = [];
+  let benchResult = null;
   function setFrameIndex(k) {
     current = Math.max(0, Math.min(keptFrames.length - 1, k | 0));
     slider.value = String(current);
@@ -527,6 +528,20 @@
   resize();
   setFrame(params.has('frame') ? +params.get('frame') : 0);
   if (params.has('play')) togglePlay();
+  // #bench=N: time N frame steps (scene update alone, and update + draw),
+  // reported in the status as ms per frame.
+  if (params.has('bench')) {
+    const n = Math.max(1, +params.get('bench'));
+    let t0 = performance.now();
+    for (let i = 0; i < n; ++i) { current = i % keptFrames.length; updateScene(); }
+    const update = (performance.now() - t0) / n;
+    t0 = performance.now();
+    for (let i = 0; i < n; ++i) { current = i % keptFrames.length; updateScene(); render(); }
+    renderer.getContext().finish();
+    const both = (performance.now() - t0) / n;
+    benchResult = { frames: n, update_ms: update, update_and_draw_ms: both };
+    setFrameIndex(0);
+  }
   requestAnimationFrame(tick);
 
   window.lockstepView = {
