@@ -71,7 +71,7 @@ int compare_command(const CompareArgs& a) {
   opts.progress = [&](int done, int) { progress.update(done); };
   // The replay page's data (index.html): every engine's states every
   // `stride` frames, the stride keeping them under --page-mb.
-  const bool page = !a.no_report && !a.no_page;
+  bool page = !a.no_report && !a.no_page;
   const int stride = compare::view_stride(scene.frames, static_cast<int>(scene.bodies.size()), static_cast<int>(engines.size()),
                                           static_cast<std::size_t>(a.page_mb) << 20);
   // Contacts of every kept frame too when they stay small (at most 10^5 body-frames).
@@ -117,9 +117,20 @@ int compare_command(const CompareArgs& a) {
           }
       }
       view.comparison = std::move(c);
-      compare::write_file(dir + "/index.html", compare::view_html(view, compare::load_view_libraries()));
-      page_note = ", index.html (the replay page: " + std::to_string(compare::view_data_bytes(view) >> 10) +
-                  " KiB of trajectories, " + (stride == 1 ? std::string("every frame") : "1 frame in " + std::to_string(stride)) + ")";
+      compare::ViewLibraries libraries;
+      try {
+        libraries = compare::load_view_libraries();
+      } catch (const std::runtime_error& e) {
+        // The verdict stands without the page: say why it is missing.
+        std::fprintf(stderr, "lockstep compare: no index.html in the report: %s\n", e.what());
+        page = false;
+      }
+      if (page) {
+        compare::write_file(dir + "/index.html", compare::view_html(view, libraries));
+        page_note = ", index.html (the replay page: " + std::to_string(compare::view_data_bytes(view) >> 10) +
+                    " KiB of trajectories, " +
+                    (stride == 1 ? std::string("every frame") : "1 frame in " + std::to_string(stride)) + ")";
+      }
     }
     std::printf("report: %s/ (summary.txt, frames.csv, bodies.csv, checks.csv, sleep.csv, statistics.csv, "
                 "divergence.svg, divergence_orientation.svg, energy.svg, sleep_timeline.svg%s)\n", dir.c_str(),
