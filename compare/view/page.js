@@ -4,6 +4,7 @@
 // test (tests/compare/view_browser_test.py) drives.
 (function () {
   'use strict';
+  const started = performance.now();
   const D = JSON.parse(document.getElementById('lockstep-data').textContent);
   const $ = (id) => document.getElementById(id);
 
@@ -355,13 +356,14 @@
     let boxes = 0;
     for (const run of runs) for (const kind in run.meshes) boxes += run.meshes[kind].count;
     const st = { ready: true, frame: frameOf(current), index: current, boxes: boxes, bodies: N, runs: runs.length,
-      markers: markers, errors: window.lockstepErrors.slice(), bench: benchResult };
+      markers: markers, errors: window.lockstepErrors.slice(), bench: benchResult, setup_ms: setupMs,
+      page_ready_ms: started + setupMs };
     $('lockstep-status').textContent = JSON.stringify(st);
     return st;
   }
 
   let charts = [];
-  let benchResult = null;
+  let benchResult = null, setupMs = null;
   function setFrameIndex(k) {
     current = Math.max(0, Math.min(keptFrames.length - 1, k | 0));
     slider.value = String(current);
@@ -542,6 +544,8 @@
     benchResult = { frames: n, update_ms: update, update_and_draw_ms: both };
     setFrameIndex(0);
   }
+  setupMs = performance.now() - started;
+  status();
   requestAnimationFrame(tick);
 
   window.lockstepView = {
