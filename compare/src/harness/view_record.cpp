@@ -143,7 +143,12 @@ Record read_record(const std::string& csv_path) {
   } catch (const std::runtime_error& e) {
     throw std::runtime_error(path + ": " + e.what() + "; re-run `lockstep run` to write it");
   }
-  r.scene = parse_scene(r.j.at("scene").dump(), path + " scene");
+  // A run of 0 frames (`lockstep run --frames 0`) records a scene of 0
+  // frames, which a scene file may not have; frames_run says how many ran.
+  nlohmann::json scene = r.j.at("scene");
+  if (scene.is_object() && scene.value("frames", 1) < 1) scene["frames"] = 1;
+  r.scene = parse_scene(scene.dump(), path + " scene");
+  r.scene.frames = r.frames_run;
   return r;
 }
 
