@@ -30,6 +30,13 @@
   const COLORS = ['#4f9dff', '#ff9f40', '#4bc07a', '#c77dff', '#ffd24d', '#ff6b9a', '#6fe0e0'];
   const STATE_COLORS = { awake: 0x4f9dff, asleep: 0x8a7fb0, static: 0x6b6f78, diverged: 0xff3b3b };
 
+  // A per-frame series' value at frame f (series keep one frame in
+  // series_every on very long runs); undefined when not kept.
+  function seriesAt(run, name, f) {
+    const every = run.series_every || 1, v = run[name];
+    return v && f % every === 0 ? v[f / every] : undefined;
+  }
+
   // The kept-frame index of run r at or before frame f.
   function indexAt(run, f) {
     const fr = run.frames;
@@ -345,8 +352,8 @@
     const f = frameOf(current);
     const rows = [];
     for (const run of runs) {
-      const h = run.hashes && run.hashes[f];
-      const differs = h && base.hashes && base.hashes[f] && h !== base.hashes[f];
+      const h = seriesAt(run, 'hashes', f), hb = seriesAt(base, 'hashes', f);
+      const differs = h && hb && h !== hb;
       rows.push('<span class="' + (differs ? 'differs' : '') + '">' + run.label + ': hash ' + (h || 'n/a') + '</span>');
     }
     $('hashes').innerHTML = rows.join('<br>') + (C && C.note ? '<br>' + C.note : '');
@@ -459,10 +466,10 @@
   };
   Chart.defaults.color = '#bbc';
   Chart.defaults.borderColor = '#3a3d44';
-  function series(values, every) {
-    const out = [];
+  function series(run, name) {
+    const out = [], values = run[name], every = run.series_every || 1;
     if (!values) return out;
-    for (let f = 0; f < values.length; f += every || 1) if (values[f] !== null && values[f] !== undefined) out.push({ x: f, y: values[f] });
+    for (let k = 0; k < values.length; ++k) if (values[k] !== null && values[k] !== undefined) out.push({ x: k * every, y: values[k] });
     return out;
   }
   function chart(id, title, yTitle, datasets, extra) {
@@ -490,7 +497,7 @@
     charts.push(c);
   }
   const ds = (r, data) => ({ label: runs[r].label, data: data, borderColor: COLORS[r % COLORS.length], backgroundColor: COLORS[r % COLORS.length] });
-  chart('chart-energy', 'energy (kinetic + potential)', 'J', runs.map((r, i) => ds(i, series(r.energy))));
+  chart('chart-energy', 'energy (kinetic + potential)', 'J', runs.map((r, i) => ds(i, series(r, 'energy'))));
   if (C) {
     const sets = [];
     for (let r = 1; r < runs.length; ++r)
@@ -501,8 +508,8 @@
   } else {
     $('chart-divergence-wrap').style.display = 'none';
   }
-  chart('chart-sleep', 'sleep timeline: bodies asleep', 'bodies', runs.map((r, i) => ds(i, series(r.asleep_count))));
-  chart('chart-contacts', 'contacts per frame', 'contacts', runs.map((r, i) => ds(i, series(r.contact_count))));
+  chart('chart-sleep', 'sleep timeline: bodies asleep', 'bodies', runs.map((r, i) => ds(i, series(r, 'asleep_count'))));
+  chart('chart-contacts', 'contacts per frame', 'contacts', runs.map((r, i) => ds(i, series(r, 'contact_count'))));
 
   // ---- playback ---------------------------------------------------------------
   let last = null, ticks = 0;

@@ -175,4 +175,25 @@ TEST(View, PageInlinesTheDataIntactWhateverTheText) {
   }
 }
 
+TEST(View, LongRunsKeepOneSeriesValueInK) {
+  // 250,001 frames of per-frame series: the page keeps every 3rd (at most 100,000).
+  ViewRun r = synthetic("long", "fixed", 1, 1, [](int, int) { return 0.0; }, [](int, int) { return 0.0; });
+  r.hashes.clear();
+  for (int f = 0; f <= 250'000; ++f) {
+    r.hashes.push_back(hash_hex(static_cast<std::uint64_t>(f)));
+    r.energy.push_back(f);
+  }
+  ViewPage page;
+  page.scene.bodies.resize(1);
+  page.runs.push_back(r);
+  const std::string html = view_html(page, load_view_libraries());
+  const std::string open = "<script id=\"lockstep-data\" type=\"application/json\">";
+  const std::size_t from = html.find(open) + open.size();
+  const nlohmann::json run = nlohmann::json::parse(html.substr(from, html.find("</script>", from) - from))["runs"][0];
+  EXPECT_EQ(run["series_every"], 3);
+  ASSERT_EQ(run["hashes"].size(), 83'334u);
+  EXPECT_EQ(run["hashes"][1], hash_hex(3));
+  EXPECT_EQ(run["energy"][83'333], 249'999.0);
+}
+
 }  // namespace

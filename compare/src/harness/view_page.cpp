@@ -1,6 +1,7 @@
 // The replay page: compare/view/page.html with its CSS, the JavaScript
 // libraries (read from Debian's packages at run time), the page's script and
 // the data inlined into one HTML file.
+#include <algorithm>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -99,7 +100,19 @@ nlohmann::json scene_json(const Scene& scene) {
           {"sdfs", std::move(sdfs)}};
 }
 
+// At most this many values of a per-frame series (hashes, energy, ...) per
+// run go into the page; a longer run keeps one frame in k (k = every).
+constexpr std::size_t kMaxSeries = 100'000;
+
+template <class T>
+std::vector<T> thinned(const std::vector<T>& v, std::size_t every) {
+  std::vector<T> out;
+  for (std::size_t i = 0; i < v.size(); i += every) out.push_back(v[i]);
+  return out;
+}
+
 nlohmann::json run_json(const ViewRun& r) {
+  const std::size_t every = std::max<std::size_t>(1, (r.hashes.size() + kMaxSeries - 1) / kMaxSeries);
   nlohmann::json contacts = nlohmann::json::object();
   for (const auto& [frame, list] : r.contacts) {
     nlohmann::json cs = nlohmann::json::array();
@@ -113,13 +126,14 @@ nlohmann::json run_json(const ViewRun& r) {
                       {"frames", r.frames},
                       {"state", base64(r.state.data(), r.state.size() * sizeof(float))},
                       {"asleep", base64(r.asleep.data(), r.asleep.size())},
-                      {"hashes", r.hashes},
-                      {"energy", r.energy},
-                      {"asleep_count", r.asleep_count},
+                      {"series_every", every},
+                      {"hashes", thinned(r.hashes, every)},
+                      {"energy", thinned(r.energy, every)},
+                      {"asleep_count", thinned(r.asleep_count, every)},
                       {"contacts", std::move(contacts)}};
   if (r.has_contacts) {
-    j["contact_count"] = r.contact_count;
-    j["penetration"] = r.penetration;
+    j["contact_count"] = thinned(r.contact_count, every);
+    j["penetration"] = thinned(r.penetration, every);
   }
   return j;
 }
