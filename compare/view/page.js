@@ -416,9 +416,13 @@
   renderer.domElement.addEventListener('pointerup', (e) => {
     if (!downAt || Math.hypot(e.clientX - downAt[0], e.clientY - downAt[1]) > 4) return;
     const rect = renderer.domElement.getBoundingClientRect();
-    let x = (e.clientX - rect.left) / rect.width, r = 0;
+    pickAt((e.clientX - rect.left) / rect.width, (e.clientY - rect.top) / rect.height);
+  });
+  // x, y: the point on the 3D view, 0..1 from its top left corner.
+  function pickAt(xView, yView) {
+    let x = xView, r = 0;
     if (mode === 'side' && runs.length > 1) { r = Math.min(runs.length - 1, Math.floor(x * runs.length)); x = x * runs.length - r; }
-    const ndc = new THREE.Vector2(2 * x - 1, 1 - 2 * (e.clientY - rect.top) / rect.height);
+    const ndc = new THREE.Vector2(2 * x - 1, 1 - 2 * yView);
     const ray = new THREE.Raycaster();
     ray.setFromCamera(ndc, camera);
     const o = ray.ray.origin, d = ray.ray.direction, run = runs[r], k = indexAt(run, frameOf(current));
@@ -442,7 +446,8 @@
     selected = hit >= 0 ? { run: r, body: hit } : null;
     selection.visible = !!selected;
     setFrameIndex(current);
-  });
+    return selected;
+  }
 
   // ---- charts ---------------------------------------------------------------
   const cursor = {
@@ -526,7 +531,7 @@
     requestAnimationFrame(tick);
   }
 
-  // #frame=N, #mode=side, #select=RUN,BODY, #play in the address pick the first view.
+  // #frame=N, #mode=side, #select=RUN,BODY, #pick=X,Y, #play in the address pick the first view.
   const params = new URLSearchParams(location.hash.slice(1));
   if (params.get('mode') === 'side' && runs.length > 1) { mode = 'side'; $('mode').value = 'side'; }
   if (params.has('select')) {
@@ -537,6 +542,7 @@
   resize();
   setFrame(params.has('frame') ? +params.get('frame') : 0);
   if (params.has('play')) togglePlay();
+  if (params.has('pick')) pickAt(...params.get('pick').split(',').map(Number));  // #pick=X,Y: a click there
   // #bench=N: time N frame steps (scene update alone, and update + draw),
   // reported in the status as ms per frame.
   if (params.has('bench')) {
@@ -560,6 +566,7 @@
     setFrameIndex: setFrameIndex,
     status: status,
     markers: markers,
+    pick: pickAt,
     select: (run, body) => { selected = { run: run, body: body }; setFrameIndex(current); return $('body-info').textContent; },
   };
 })();

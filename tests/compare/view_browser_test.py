@@ -169,6 +169,11 @@ check("a.csv, body 2 at frame 10" in text and "position" in text and "angular ve
       "the selected body's panel shows its state (got %r)" % text[:300])
 check(re.search(r"contacts +\d+", text) is not None, "the panel lists the recorded contacts (got %r)" % text[-300:])
 check("hashes of a.csv and c.csv are identical on all 61 frames" in dom, "the page names the two fixed runs' hash agreement")
+# A click on the middle of the second column (side by side) picks a body of the second run; one on the sky none.
+for pick, want in [("0.5,0.55", "b.csv, body "), ("0.5,0.02", "Click a body")]:
+    st, dom = status("file://" + os.path.join(WORK, "stack5.html") + "#frame=10&mode=side&pick=" + pick)
+    info = re.search(r'<div id="body-info">(.*?)</div>', dom, re.S)
+    check(info is not None and info.group(1).startswith(want), "#pick=%s shows %r (got %r)" % (pick, want, info and info.group(1)[:60]))
 
 # Playback: with #play the page advances on its own (virtual time in headless Chromium).
 st, _ = status(page + "#frame=0&play")
