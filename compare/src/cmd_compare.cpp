@@ -49,6 +49,8 @@ int compare_command(const CompareArgs& a) {
   if (engines.size() < 2) throw std::invalid_argument("--engines: name at least two engines to compare");
   const bool have_double = std::find(engines.begin(), engines.end(), "double") != engines.end();
   const std::string baseline = a.baseline.empty() ? (have_double ? "double" : engines.front()) : a.baseline;
+  if (std::find(engines.begin(), engines.end(), baseline) == engines.end())
+    throw std::invalid_argument("--baseline: '" + baseline + "' is not among the engines compared (" + join(engines) + ")");
 
   compare::CompareTolerances tol = compare::tolerances_for(scene);
   const std::string& tol_file = a.tolerances;

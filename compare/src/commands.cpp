@@ -99,7 +99,13 @@ std::string usage_error(const CLI::App& app, const CLI::ParseError& e) {
   if (dynamic_cast<const CLI::ExtrasError*>(&e)) {
     std::string extra = what.substr(what.find(": ") == std::string::npos ? 0 : what.find(": ") + 2);
     const bool option = !extra.empty() && extra[0] == '-';
-    return (option ? "unknown option " : "unexpected argument ") + extra + "; options: " + option_names(app);
+    if (option) return "unknown option " + extra + "; options: " + option_names(app);
+    std::vector<std::string> positionals;
+    for (const CLI::Option* o : app.get_options())
+      if (o->get_positional()) positionals.push_back(o->get_name() + (o->get_items_expected_max() > 1 ? "..." : ""));
+    return "unexpected argument '" + extra + "'; it takes " +
+           (positionals.empty() ? std::string("no arguments") : join(positionals, " ")) + " and the options " +
+           option_names(app);
   }
   if (dynamic_cast<const CLI::ArgumentMismatch*>(&e) || dynamic_cast<const CLI::ConversionError*>(&e)) {
     // "--frames: 1 required INT missing" -> "--frames needs a value: integer in [0, 10000000]"

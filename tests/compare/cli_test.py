@@ -75,6 +75,8 @@ for args, must in [
     (["view", "missing.csv"], ["missing.csv.run.json", "lockstep run"]),
     (["accuracy", "--timing-runs", "0"], ["--timing-runs", "integer in [1, 1000]"]),
     (["nope"], ["unknown command 'nope'", "run"]),
+    (["scenes", "a", "b"], ["unexpected argument 'b'", "it takes SCENE"]),
+    (["compare", "drop", "--engines", "fixed,float", "--baseline", "double", "--no-report"], ["--baseline", "'double'"]),
 ]:
     p = run(*args)
     lines = p.stderr.strip().splitlines()
