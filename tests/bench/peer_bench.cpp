@@ -1,16 +1,17 @@
 // peer_bench: one scene on one engine, measured the same way for every engine
-// (peer_metrics.hpp): ms per step over all frames (stepping only, one
-// thread), the frame from which every body stayed asleep, columns standing at
-// the end, and the worst penetration into the ground and between two boxes
-// over all frames. tests/bench/peers.py runs it for Bullet, lockstep's engines
+// (peer_metrics.hpp): ms per step over all frames (stepping only, one thread;
+// the process's CPU time, and the wall clock), the frame from which every
+// body stayed asleep, columns standing at the end, and the worst penetration
+// into the ground and between two boxes over all frames. tests/bench/peers.py runs it for Bullet, lockstep's engines
 // and Jolt side by side (README "Speed").
 //
 //   peer_bench run SCENE --engine bullet|fixed|float|double|mp|gpu [--frames N]
-//   peer_bench measure SCENE TRAJECTORY.csv --engine NAME [--ms-per-step X]
+//   peer_bench measure SCENE TRAJECTORY.csv --engine NAME [--ms-per-step CPU] [--wall-ms-per-step WALL]
 //   peer_bench columns --engine E [--count N] [--all]
 //
 // SCENE is a built-in scene name or a scene JSON file. `run` steps the engine
-// in this process (Bullet is there when it was found at build time); `measure`
+// in this process (Bullet when it was found at build time; lockstep's engines
+// through make_engine, the code behind `lockstep run`); `measure`
 // reads a trajectory with a row per body per frame, in `lockstep run`'s CSV
 // columns (frame,body,px,py,pz,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz,asleep), as
 // written by `lockstep run` or by peers.py for Jolt. Each prints one JSON line.
@@ -18,6 +19,7 @@
 // peer_stacking_test) on one engine and prints each column that does not
 // stand and why (--all: every column), then the count.
 #include <chrono>
+#include <ctime>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -45,13 +47,21 @@ Scene resolve(const std::string& arg) {
   return load_scene_file(arg);
 }
 
-void print(const std::string& engine, const std::string& description, const Scene& s, int frames, double ms_per_step,
+// CPU time of this process (s): what a step costs on a machine shared with
+// other work, where the wall clock also counts the time others took.
+double cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+void print(const std::string& engine, const std::string& description, const Scene& s, int frames, double cpu_ms, double wall_ms,
            const PeerMetrics& m) {
   std::printf("{\"engine\": \"%s\", \"description\": \"%s\", \"scene\": \"%s\", \"bodies\": %zu, \"frames\": %d, "
-              "\"ms_per_step\": %.4f, \"all_asleep_frame\": %d, \"asleep_at_end\": %d, \"columns\": %d, \"standing\": %d, "
-              "\"worst_ground_mm\": %.2f, \"worst_pair_mm\": %.2f}\n",
-              engine.c_str(), description.c_str(), s.name.c_str(), s.bodies.size(), frames, ms_per_step, m.all_asleep_frame,
-              m.asleep_at_end, m.columns, m.standing, 1e3 * m.worst_ground_m, 1e3 * m.worst_pair_m);
+              "\"ms_per_step\": %.4f, \"wall_ms_per_step\": %.4f, \"all_asleep_frame\": %d, \"asleep_at_end\": %d, "
+              "\"columns\": %d, \"standing\": %d, \"upright\": %d, \"worst_ground_mm\": %.2f, \"worst_pair_mm\": %.2f}\n",
+              engine.c_str(), description.c_str(), s.name.c_str(), s.bodies.size(), frames, cpu_ms, wall_ms, m.all_asleep_frame,
+              m.asleep_at_end, m.columns, m.standing, m.upright, 1e3 * m.worst_ground_m, 1e3 * m.worst_pair_m);
 }
 
 std::unique_ptr<EngineRun> make(const std::string& engine, const Scene& s) {
@@ -67,15 +77,18 @@ int run(const Scene& s, const std::string& engine) {
   std::unique_ptr<EngineRun> e = make(engine, s);
   MetricsRecorder rec(s);
   std::vector<BodySnapshot> b(static_cast<std::size_t>(e->body_count()));
-  double seconds = 0;
+  double wall = 0, cpu = 0;
   for (int f = 0; f < s.frames; ++f) {
     const auto t0 = std::chrono::steady_clock::now();
+    const double c0 = cpu_seconds();
     e->step();
-    seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    cpu += cpu_seconds() - c0;
+    wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     for (int i = 0; i < e->body_count(); ++i) b[static_cast<std::size_t>(i)] = e->body(i);
     rec.frame(e->frame(), b);
   }
-  print(engine, e->description(), s, s.frames, s.frames ? 1e3 * seconds / s.frames : 0.0, rec.finish());
+  const double per = s.frames ? 1e3 / s.frames : 0.0;
+  print(engine, e->description(), s, s.frames, cpu * per, wall * per, rec.finish());
   return 0;
 }
 
@@ -96,7 +109,7 @@ int columns(const std::string& engine, int count, bool all) {
 }
 #endif
 
-int measure(const Scene& s, const std::string& path, const std::string& engine, double ms_per_step) {
+int measure(const Scene& s, const std::string& path, const std::string& engine, double cpu_ms, double wall_ms) {
   std::ifstream in(path);
   if (!in) throw std::invalid_argument("TRAJECTORY: cannot read '" + path + "'");
   std::string line;
@@ -137,7 +150,7 @@ int measure(const Scene& s, const std::string& path, const std::string& engine, 
     ++seen;
   }
   flush();
-  print(engine, "trajectory " + path, s, frames, ms_per_step, rec.finish());
+  print(engine, "trajectory " + path, s, frames, cpu_ms, wall_ms, rec.finish());
   return 0;
 }
 
@@ -154,7 +167,8 @@ int main_(int argc, char** argv) {
     return run(s, option("--engine", "bullet"));
   }
   if (a.size() >= 3 && a[0] == "measure")
-    return measure(resolve(a[1]), a[2], option("--engine", "trajectory"), std::stod(option("--ms-per-step", "0")));
+    return measure(resolve(a[1]), a[2], option("--engine", "trajectory"), std::stod(option("--ms-per-step", "0")),
+                   std::stod(option("--wall-ms-per-step", "0")));
 #if LOCKSTEP_HAVE_BULLET
   if (!a.empty() && a[0] == "columns") {
     bool all = false;
@@ -164,7 +178,7 @@ int main_(int argc, char** argv) {
 #endif
   std::fprintf(stderr,
                "usage: peer_bench run SCENE --engine bullet|fixed|float|double|mp|gpu [--frames N]\n"
-               "       peer_bench measure SCENE TRAJECTORY.csv --engine NAME [--ms-per-step X]\n"
+               "       peer_bench measure SCENE TRAJECTORY.csv --engine NAME [--ms-per-step CPU] [--wall-ms-per-step WALL]\n"
                "       peer_bench columns --engine E [--count N] [--all]   (built with Bullet)\n");
   return 2;
 }

@@ -20,7 +20,9 @@ struct PeerMetrics {
   double worst_pair_m = 0;    // deepest box-box overlap (penetration depth), all frames
   int all_asleep_frame = -1;  // from this frame on every body was asleep (-1: not at the end)
   int asleep_at_end = 0;
-  int columns = 0, standing = 0;
+  int columns = 0;
+  int standing = 0;  // every cube within 2 cm of its stacked height (tests/peer's rule)
+  int upright = 0;   // every cube within a quarter of its size of its level (README "Stacking"'s rule)
 };
 
 // The scene's columns: bodies grouped by where they start (x, z), a body
@@ -82,12 +84,16 @@ class MetricsRecorder {
     last_ = b;
   }
 
-  // The standing count from the last frame: a column stands when, sorted by
-  // height, its k-th cube is within 2 cm of size/2 + k size and within half
-  // its size of the column's mean axis (tests/peer/columns.hpp's rule, less
-  // the sleep, which all_asleep_frame reports).
+  // The counts from the last frame: a column stands when, sorted by height,
+  // its k-th cube is within 2 cm of size/2 + k size and within half its size
+  // of the column's mean axis (tests/peer/columns.hpp's rule, less the sleep,
+  // which all_asleep_frame reports); it is upright when each is within a
+  // quarter of its size of that height instead (README "Stacking": a column
+  // whose cubes sink into each other, as Jolt's do by its penetration slop,
+  // is upright but does not stand).
   PeerMetrics finish() {
     m_.standing = 0;
+    m_.upright = 0;
     for (const auto& c : cols_) {
       std::vector<const BodySnapshot*> s;
       double cx = 0, cz = 0;
@@ -100,12 +106,15 @@ class MetricsRecorder {
       cz /= static_cast<double>(c.size());
       std::sort(s.begin(), s.end(), [](const BodySnapshot* x, const BodySnapshot* y) { return x->p[1] < y->p[1]; });
       const double size = 2 * scene_.bodies[static_cast<std::size_t>(c.front())].half_extents.y;
-      bool ok = true;
-      for (std::size_t k = 0; k < s.size() && ok; ++k) {
+      bool ok = true, upright = true;
+      for (std::size_t k = 0; k < s.size(); ++k) {
         const double ideal = scene_.ground.height + size / 2 + static_cast<double>(k) * size;
-        ok = std::fabs(s[k]->p[1] - ideal) < 0.02 && std::hypot(s[k]->p[0] - cx, s[k]->p[2] - cz) < size / 2;
+        const bool on_axis = std::hypot(s[k]->p[0] - cx, s[k]->p[2] - cz) < size / 2;
+        ok = ok && on_axis && std::fabs(s[k]->p[1] - ideal) < 0.02;
+        upright = upright && on_axis && std::fabs(s[k]->p[1] - ideal) < size / 4;
       }
       m_.standing += ok;
+      m_.upright += upright;
     }
     return m_;
   }

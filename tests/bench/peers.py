@@ -1,12 +1,16 @@
 #!/usr/bin/env python3
 """lockstep beside its peers, in one go: the same scenes (one JSON file each,
-read by every engine) on Bullet (peer_bench, in process), Jolt (PyPI
-`culverin`, under Python 3.12, one thread) and lockstep's engines (`lockstep
-run`), each measured by the same code (peer_bench measure / run): ms per step
-over all frames (stepping only, one thread), the frame from which every body
-stayed asleep, columns standing at the end (every cube within 2 cm of its
-stacked height and within half its size of the column's axis), and the worst
-penetration over all frames into the ground and between two boxes (mm).
+read by every engine) on Bullet and lockstep's engines (`peer_bench run`, in
+process: lockstep's through make_engine, the code behind `lockstep run`) and
+on Jolt (PyPI `culverin`, under Python 3.12, one thread; its trajectory
+measured by `peer_bench measure`), each measured by the same code: ms per
+step over all frames (stepping only, one thread, CPU time of the process, so
+that other work on a shared machine does not count; the wall clock is in the
+JSON lines), the frame from which every body stayed asleep, columns standing
+at the end (every cube within 2 cm of its stacked height and within half its
+size of the column's axis) and upright (within a quarter of its size), and
+the worst penetration over all frames into the ground and between two boxes
+(mm).
 
 Scenes: pile1000 (built in: 100 columns of 10 unit cubes, tilted up to about
 6 degrees) and boxfall1000 (ANCHORS.md's boxfall-1000: 10 x 10 columns of 10
@@ -18,7 +22,7 @@ seeded), 600 frames each at 60 Hz.
 Usage: python3 tests/bench/peers.py [--build build] [--engines LIST] [--scenes LIST] [--frames N]
 Writes its scene files and trajectories under BUILD/peers and prints a
 Markdown table (README "Speed")."""
-import argparse, json, math, os, random, re, shutil, subprocess, sys, time
+import argparse, json, math, os, random, subprocess, sys, time
 
 JOLT_PYTHON = os.path.expanduser("~/.pyenv/versions/3.12.1/bin/python")
 ENGINES = ["bullet", "jolt", "fixed", "float", "double", "mp", "gpu"]
@@ -55,6 +59,7 @@ def jolt_worker(scene_path, out_path, frames):
     """Runs under Python 3.12 with culverin: steps Jolt (one thread) and writes
     the trajectory in lockstep run's CSV columns; prints ms/step."""
     import culverin
+    print(culverin.__version__, file=sys.stderr)
     s = json.load(open(scene_path))
     c = s.get("constants", {})
     dt = c.get("dt", 1 / 60)
@@ -76,13 +81,14 @@ def jolt_worker(scene_path, out_path, frames):
                                          size=tuple(b.get("half_extents", [0.5] * 3)), shape=culverin.SHAPE_BOX,
                                          mass=b.get("mass", 1.0), friction=m.get("friction", 0.5),
                                          restitution=m.get("restitution", 0.2)))
-    seconds = 0.0
+    wall = cpu = 0.0
     with open(out_path, "w") as out:
         out.write("frame,body,px,py,pz,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz,asleep\n")
         for f in range(1, frames + 1):
-            t0 = time.perf_counter()
+            t0, c0 = time.perf_counter(), time.process_time()
             world.step(dt)
-            seconds += time.perf_counter() - t0
+            cpu += time.process_time() - c0
+            wall += time.perf_counter() - t0
             P, Q = memoryview(world.positions), memoryview(world.rotations)
             V, W = memoryview(world.velocities), memoryview(world.angular_velocities)
             rows = []
@@ -92,7 +98,7 @@ def jolt_worker(scene_path, out_path, frames):
                             f"{V[k]:.9g},{V[k+1]:.9g},{V[k+2]:.9g},{W[k]:.9g},{W[k+1]:.9g},{W[k+2]:.9g},"
                             f"{0 if world.is_active(h) else 1}\n")
             out.write("".join(rows))
-    print(f"{1e3 * seconds / frames:.4f} ms/step")
+    print(f"{1e3 * cpu / frames:.4f} {1e3 * wall / frames:.4f}")
 
 
 def jolt_available():
@@ -101,9 +107,9 @@ def jolt_available():
     return subprocess.run([JOLT_PYTHON, "-c", "import culverin"], capture_output=True).returncode == 0
 
 
-def measure(peer_bench, scene, traj, engine, ms):
-    r = subprocess.run([peer_bench, "measure", scene, traj, "--engine", engine, "--ms-per-step", str(ms)],
-                       capture_output=True, text=True)
+def measure(peer_bench, scene, traj, engine, cpu_ms, wall_ms):
+    r = subprocess.run([peer_bench, "measure", scene, traj, "--engine", engine, "--ms-per-step", str(cpu_ms),
+                        "--wall-ms-per-step", str(wall_ms)], capture_output=True, text=True)
     if r.returncode != 0:
         raise RuntimeError(f"peer_bench measure {engine}: {r.stderr.strip()}")
     return json.loads(r.stdout)
@@ -112,32 +118,25 @@ def measure(peer_bench, scene, traj, engine, ms):
 def run_one(a, engine, scene_path, work):
     """The result dict for one engine on one scene, or a string saying why it was skipped."""
     peer_bench = os.path.join(a.build, "tests", "bench", "peer_bench")
-    lockstep = os.path.join(a.build, "compare", "lockstep")
     traj = os.path.join(work, f"{engine}.csv")
     try:
-        if engine == "bullet":
-            r = subprocess.run([peer_bench, "run", scene_path, "--engine", "bullet", "--frames", str(a.frames)],
+        if engine != "jolt":
+            r = subprocess.run([peer_bench, "run", scene_path, "--engine", engine, "--frames", str(a.frames)],
                                capture_output=True, text=True)
             if r.returncode != 0:
-                return "skipped: " + r.stderr.strip()
+                return "skipped: " + (r.stderr.strip().splitlines() or ["peer_bench failed"])[-1]
             return json.loads(r.stdout)
-        if engine == "jolt":
+        else:
             if not jolt_available():
                 return "skipped: culverin not found"
             r = subprocess.run([JOLT_PYTHON, os.path.abspath(__file__), "--jolt-worker", scene_path, traj, str(a.frames)],
                                capture_output=True, text=True)
             if r.returncode != 0:
                 return "skipped: jolt failed: " + r.stderr.strip()[-300:]
-            ms = float(r.stdout.split()[0])
-            res = measure(peer_bench, scene_path, traj, "jolt", ms)
-            res["description"] = "Jolt (culverin, one thread)"
+            cpu_ms, wall_ms = (float(x) for x in r.stdout.split()[:2])
+            res = measure(peer_bench, scene_path, traj, "jolt", cpu_ms, wall_ms)
+            res["description"] = "Jolt (culverin " + r.stderr.strip() + ", one thread)"
             return res
-        r = subprocess.run([lockstep, "run", scene_path, "--engine", engine, "--frames", str(a.frames), "--out", traj,
-                            "--no-progress"], capture_output=True, text=True)
-        if r.returncode != 0:
-            return "skipped: " + (r.stderr.strip().splitlines() or ["lockstep run failed"])[-1]
-        ms = float(re.search(r"([0-9.]+) ms/step", r.stdout).group(1))
-        return measure(peer_bench, scene_path, traj, engine, ms)
     finally:
         if os.path.exists(traj):
             os.remove(traj)
@@ -156,6 +155,7 @@ def main():
     work = os.path.join(a.build, "peers")
     os.makedirs(work, exist_ok=True)
     lockstep = os.path.join(a.build, "compare", "lockstep")
+    print(f"peers.py: {a.frames} frames, engines {a.engines}; ms/step is CPU time per step", flush=True)
     rows = []
     for scene in a.scenes.split(","):
         path = os.path.join(work, f"{scene}.json")
@@ -170,14 +170,15 @@ def main():
             took = time.time() - t0
             if isinstance(r, str):
                 print(f"{scene} {engine}: {r}", flush=True)
-                rows.append(f"| {scene} | {engine} | {r} | | | |")
+                rows.append(f"| {scene} | {engine} | {r if len(r) <= 90 else r[:87] + '...'} | | | |")
                 continue
             asleep = str(r["all_asleep_frame"]) if r["all_asleep_frame"] >= 0 else f"never ({r['asleep_at_end']} asleep)"
             print(f"{scene} {engine}: {json.dumps(r)} ({took:.0f} s)", flush=True)
-            rows.append(f"| {scene} | {engine} | {r['ms_per_step']:.2f} | {asleep} | {r['standing']} / {r['columns']} | "
-                        f"{r['worst_ground_mm']:.1f} / {r['worst_pair_mm']:.1f} |")
+            rows.append(f"| {scene} | {engine} | {r['ms_per_step']:.2f} | {asleep} | {r['standing']} / {r['upright']} of {r['columns']} | "
+                        f"{r['worst_ground_mm']:.0f} / {r['worst_pair_mm']:.0f} |")
     print()
-    print("| scene | engine | ms/step | all asleep at frame | columns standing | worst penetration, ground / box-box (mm) |")
+    print("| scene | engine | ms/step | all asleep at frame | columns standing / upright | "
+          "worst penetration, ground / box-box (mm) |")
     print("|---|---|---:|---:|---:|---:|")
     print("\n".join(rows))
 
