@@ -59,9 +59,11 @@ void print(const std::string& engine, const std::string& description, const Scen
            const PeerMetrics& m) {
   std::printf("{\"engine\": \"%s\", \"description\": \"%s\", \"scene\": \"%s\", \"bodies\": %zu, \"frames\": %d, "
               "\"ms_per_step\": %.4f, \"wall_ms_per_step\": %.4f, \"all_asleep_frame\": %d, \"asleep_at_end\": %d, "
-              "\"columns\": %d, \"standing\": %d, \"upright\": %d, \"worst_ground_mm\": %.2f, \"worst_pair_mm\": %.2f}\n",
+              "\"columns\": %d, \"standing\": %d, \"upright\": %d, \"worst_ground_mm\": %.2f, \"worst_ground_at\": [%d, %d], "
+              "\"worst_pair_mm\": %.2f, \"worst_pair_at\": [%d, %d, %d], \"end_ground_mm\": %.2f, \"end_pair_mm\": %.2f}\n",
               engine.c_str(), description.c_str(), s.name.c_str(), s.bodies.size(), frames, cpu_ms, wall_ms, m.all_asleep_frame,
-              m.asleep_at_end, m.columns, m.standing, m.upright, 1e3 * m.worst_ground_m, 1e3 * m.worst_pair_m);
+              m.asleep_at_end, m.columns, m.standing, m.upright, 1e3 * m.worst_ground_m, m.worst_ground_frame, m.worst_ground_body,
+              1e3 * m.worst_pair_m, m.worst_pair_frame, m.worst_pair_a, m.worst_pair_b, 1e3 * m.end_ground_m, 1e3 * m.end_pair_m);
 }
 
 std::unique_ptr<EngineRun> make(const std::string& engine, const Scene& s) {
@@ -154,6 +156,16 @@ int measure(const Scene& s, const std::string& path, const std::string& engine, 
   return 0;
 }
 
+// A number option's value, or an error naming the option, the value and the fix.
+double number(const std::string& name, const std::string& value, double lo, double hi, const char* example) {
+  char* end = nullptr;
+  const double x = std::strtod(value.c_str(), &end);
+  if (value.empty() || *end != '\0' || !(x >= lo && x <= hi))
+    throw std::invalid_argument(name + ": '" + value + "' is not a number in [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                                "]; give one such as " + example);
+  return x;
+}
+
 int main_(int argc, char** argv) {
   std::vector<std::string> a(argv + 1, argv + argc);
   auto option = [&a](const std::string& name, const std::string& fallback) {
@@ -163,17 +175,17 @@ int main_(int argc, char** argv) {
   };
   if (a.size() >= 2 && a[0] == "run") {
     Scene s = resolve(a[1]);
-    s.frames = std::stoi(option("--frames", std::to_string(s.frames)));
+    s.frames = static_cast<int>(number("--frames", option("--frames", std::to_string(s.frames)), 0, 1e7, "600"));
     return run(s, option("--engine", "bullet"));
   }
   if (a.size() >= 3 && a[0] == "measure")
-    return measure(resolve(a[1]), a[2], option("--engine", "trajectory"), std::stod(option("--ms-per-step", "0")),
-                   std::stod(option("--wall-ms-per-step", "0")));
+    return measure(resolve(a[1]), a[2], option("--engine", "trajectory"), number("--ms-per-step", option("--ms-per-step", "0"), 0, 1e9, "1.5"),
+                   number("--wall-ms-per-step", option("--wall-ms-per-step", "0"), 0, 1e9, "1.5"));
 #if LOCKSTEP_HAVE_BULLET
   if (!a.empty() && a[0] == "columns") {
     bool all = false;
     for (const std::string& x : a) all = all || x == "--all";
-    return columns(option("--engine", "bullet"), std::stoi(option("--count", "100")), all);
+    return columns(option("--engine", "bullet"), static_cast<int>(number("--count", option("--count", "100"), 1, 1e6, "100")), all);
   }
 #endif
   std::fprintf(stderr,

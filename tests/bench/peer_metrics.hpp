@@ -1,7 +1,8 @@
 // What peer_bench reports of a run, from body snapshots only, so that every
 // engine (lockstep's, Bullet in process, Jolt from a trajectory) is measured
 // by the same code: the worst penetration into the ground and between two
-// boxes over all frames (separating axes in double, peer/box_pair.hpp), the
+// boxes over all frames and at the last (separating axes in double,
+// peer/box_pair.hpp), the
 // frame from which every body stayed asleep, and how many columns stand at
 // the end.
 #pragma once
@@ -18,6 +19,9 @@ namespace lockstep::peer {
 struct PeerMetrics {
   double worst_ground_m = 0;  // deepest corner below the ground plane, all frames
   double worst_pair_m = 0;    // deepest box-box overlap (penetration depth), all frames
+  double end_ground_m = 0, end_pair_m = 0;  // the same at the last frame: how deep bodies rest
+  int worst_ground_frame = -1, worst_ground_body = -1;
+  int worst_pair_frame = -1, worst_pair_a = -1, worst_pair_b = -1;
   int all_asleep_frame = -1;  // from this frame on every body was asleep (-1: not at the end)
   int asleep_at_end = 0;
   int columns = 0;
@@ -56,10 +60,16 @@ class MetricsRecorder {
     for (std::size_t i = 0; i < n; ++i) geo_.push_back(hard::geometry_of(b[i], scene_.bodies[i].half_extents));
     bool all = n > 0;
     int asleep = 0;
+    m_.end_ground_m = m_.end_pair_m = 0;
     for (std::size_t i = 0; i < n; ++i) {
       all = all && b[i].asleep;
       asleep += b[i].asleep;
-      if (scene_.ground.present) m_.worst_ground_m = std::max(m_.worst_ground_m, scene_.ground.height - geo_[i].lowest_y);
+      if (scene_.ground.present) m_.end_ground_m = std::max(m_.end_ground_m, scene_.ground.height - geo_[i].lowest_y);
+      if (scene_.ground.present && scene_.ground.height - geo_[i].lowest_y > m_.worst_ground_m) {
+        m_.worst_ground_m = scene_.ground.height - geo_[i].lowest_y;
+        m_.worst_ground_frame = frame;
+        m_.worst_ground_body = static_cast<int>(i);
+      }
     }
     if (!all) m_.all_asleep_frame = -1;
     else if (m_.all_asleep_frame < 0) m_.all_asleep_frame = frame;
@@ -78,7 +88,13 @@ class MetricsRecorder {
         const double dy = b[j].p[1] - b[i].p[1], dz = b[j].p[2] - b[i].p[2], dx = b[j].p[0] - b[i].p[0];
         if (dx * dx + dy * dy + dz * dz > r * r) continue;
         const double sep = box_pair_separation(b[i], geo_[i], scene_.bodies[i].half_extents, b[j], geo_[j], scene_.bodies[j].half_extents);
-        m_.worst_pair_m = std::max(m_.worst_pair_m, -sep);
+        m_.end_pair_m = std::max(m_.end_pair_m, -sep);
+        if (-sep > m_.worst_pair_m) {
+          m_.worst_pair_m = -sep;
+          m_.worst_pair_frame = frame;
+          m_.worst_pair_a = static_cast<int>(std::min(i, j));
+          m_.worst_pair_b = static_cast<int>(std::max(i, j));
+        }
       }
     }
     last_ = b;
