@@ -127,8 +127,10 @@ TEST(PeerColumns, FloatStandsAsManyAsBullet) { expect_as_good_as_bullet("float",
 TEST(PeerColumns, DoubleStandsAsManyAsBullet) { expect_as_good_as_bullet("double", kColumns); }
 // mp (113-bit) takes about 25 s of CPU for the 100 columns: all of them.
 TEST(PeerColumns, MpStandsAsManyAsBullet) { expect_as_good_as_bullet("mp", kColumns); }
-// The GPU engine's host build (the same pipeline and per-element functions as
-// its CUDA kernels).
+// The GPU engine: its host build where there is no CUDA device, as in CI (the
+// same pipeline and per-element functions as its CUDA kernels). On this main
+// it refuses oriented-box scenes (engine_limitation), so this test fails,
+// naming that limitation, until the GPU engine's oriented-box port lands.
 TEST(PeerColumnsGpu, GpuStandsAsManyAsBullet) { expect_as_good_as_bullet("gpu", kColumns); }
 
 // The family is what it claims: seeded (the same columns twice), 2-10 cubes
