@@ -81,7 +81,7 @@ Pair<T> gen_pair() {
   switch (*rc::gen::inRange(0, 3)) {
     case 0: {  // anywhere near: faces, edges, corners, apart
       rb = gen_rotation();
-      d = gen_axis() * (O(real(0, 1.1)) * (ha.norm() + hb.norm()));
+      d = gen_axis() * (O(real(0, 1.3)) * (ha.norm() + hb.norm()));
       break;
     }
     case 1: {  // stacked on a face of a: b turned by multiples of 90 degrees (the 45-degree
@@ -101,15 +101,17 @@ Pair<T> gen_pair() {
         if (j != k) d += Ra.col(j) * (ha[j] * O(real(-1, 1)));
       break;
     }
-    default: {  // edge on edge: b turned 45 degrees about an axis of a, placed across an edge of a
-      const M3 Ra = ra.toRotationMatrix();
-      const int i = *rc::gen::inRange(0, 3);
-      rb = AA(Ra * (AA(boost::math::constants::pi<O>() / 4, V3::Unit(i)) * AA(O(log_uniform(1e-6, 0.05)), gen_axis()))
-                       .toRotationMatrix());
-      V3 dir = V3::Zero();
-      for (int j = 0; j < 3; ++j)
-        if (j != i) dir += Ra.col(j) * (*rc::gen::arbitrary<bool>() ? O(1) : O(-1));
-      d = dir.normalized() * ((ha.norm() + hb.norm()) * O(real(0.5, 1.0)));
+    default: {  // edge across edge, as BoxBoxTest.CrossedEdgesGiveOnePointBetweenTheEdges in a's frame:
+                // a turned 45 degrees about z, b 45 degrees about x and above it, so that a's top
+                // edge (along z) crosses b's bottom edge (along x); tilted and shifted a little
+      const O q45 = boost::math::constants::pi<O>() / 4, r2 = boost::math::constants::root_two<O>();
+      const M3 Ra0 = AA(q45, V3::UnitZ()).toRotationMatrix();
+      const M3 Rb0 = (AA(q45, V3::UnitX()) * AA(O(log_uniform(1e-6, 0.05)), gen_axis())).toRotationMatrix();
+      const V3 d0((O(real(-0.3, 0.3)) * hb.x()), (ha.x() + ha.y() + hb.y() + hb.z()) / r2 * O(real(0.97, 1.01)),
+                  O(real(-0.3, 0.3)) * ha.z());
+      const M3 to_world = ra.toRotationMatrix() * Ra0.transpose();
+      rb = AA(to_world * Rb0);
+      d = to_world * d0;
       break;
     }
   }
@@ -364,9 +366,11 @@ TYPED_TEST(EigenBoxBoxOracle, SeparatingAxesAndFaceClipping) {
   std::printf("[ oracle ] %s: %d face contacts (%d on a face of b), %d edge contacts, %d without contact\n",
               Num<T>::kName, counts.face, counts.face_b, counts.edge, counts.none);
   for (const auto& [what, ratio] : chk.worst) std::printf("[ oracle ]   %-55s worst %.3g of its bound\n", what.c_str(), ratio);
+  // Each kind of result is common enough that these floors (a fifth of the
+  // usual counts or less) are never missed by chance.
   EXPECT_GT(counts.face, kBoxCases / 10);
-  EXPECT_GT(counts.edge, kBoxCases / 50);
-  EXPECT_GT(counts.none, kBoxCases / 50);
+  EXPECT_GT(counts.edge, kBoxCases / 20);
+  EXPECT_GT(counts.none, kBoxCases / 100);
 }
 
 }  // namespace
