@@ -28,7 +28,7 @@
 // sum hb) + 1 m, a separation, depth or coordinate is within K eps S of the
 // oracle, K = 4; an edge axis divides it by |A_i x B_j| >= 1/64 (its
 // normalisation), an edge point by |A_i x B_j|^2 (eq 106's denominator). The
-// worst seen over 20,000 cases per type is 0.07 of the bound (the test
+// worst seen over 20,000 cases per type is 0.1 of the bound (the test
 // prints the worst of each check).
 // A swapped normal, a reference face on the wrong side, a clip against the
 // wrong plane or a point not halfway is an error of the size of the boxes.
