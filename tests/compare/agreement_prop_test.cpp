@@ -22,6 +22,10 @@
 #include "lockstep/fixed/q16.hpp"
 #include "scene_gen.hpp"
 
+#ifndef LOCKSTEP_FAILURE_DEFAULT_DIR
+#error "LOCKSTEP_FAILURE_DEFAULT_DIR: set by tests/compare/CMakeLists.txt to a directory of the build tree"
+#endif
+
 #ifndef LOCKSTEP_PROP_CASES
 #define LOCKSTEP_PROP_CASES 60
 #endif
@@ -50,9 +54,12 @@ CompareTolerances prop_tolerances() {
   return t;
 }
 
+// Where a failing case is written: $LOCKSTEP_FAILURE_DIR, else the test's
+// directory in the build tree (tests/compare/CMakeLists.txt), never the
+// working directory (a run from the source tree would write into it).
 std::string failure_dir() {
   const char* d = std::getenv("LOCKSTEP_FAILURE_DIR");
-  return d && *d ? d : std::filesystem::current_path().string();
+  return d && *d ? d : LOCKSTEP_FAILURE_DEFAULT_DIR;
 }
 
 // The scene as the fixed engine sees it: every constant rounded to Q16.16
