@@ -114,21 +114,51 @@ Monitor::ContactView Monitor::contacts_of(const std::vector<BodySnapshot>& s, co
   // loads the lower one; the lift is counted as if the upper body took the
   // whole correction (an upper bound: with both bodies awake the split of
   // eq 89 adds no potential energy at all).
+  // Eq 110 corrects a box-box pair by its depth less what the stage has
+  // already moved its two sides apart: a lower side lifted first (by the
+  // ground, which is corrected first, or by its own pair below) lifts the
+  // upper side by that much more (a body placed 0.32 m deep into a box that
+  // the box below it lifts by 0.1 m rises 0.42 m in one frame). The lift of
+  // the upper side of a support pair is therefore bounded by its own depth
+  // plus the lift of its lower side, carried up the chain below.
+  struct Carried {
+    std::size_t upper, lower;
+    double own;  // deepest point times |n_y| (m); < 0: a speculative pair's gap
+  };
+  std::vector<Carried> carried;
   if (scene_.effects.contacts && n >= 2) {
     std::vector<std::size_t> order(n);
     std::iota(order.begin(), order.end(), std::size_t{0});
-    auto lo_x = [&](std::size_t i) { return s[i].p[0] - g[i].aabb_half[0] - 0.5 * tol; };
+    // A pair is a (speculative) contact of the frame only within eq 107's
+    // reach of its bodies: (|v|inf + |g| dt + 3 |w|inf h_max) dt each, an
+    // upper bound (eq 107 caps both speeds at 64 m/s).
+    std::vector<double> reach(n, 0.0);
+    const double g_dt = std::sqrt(scene_.constants.gravity.x * scene_.constants.gravity.x +
+                                  scene_.constants.gravity.y * scene_.constants.gravity.y +
+                                  scene_.constants.gravity.z * scene_.constants.gravity.z) * scene_.constants.dt;
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec3d& h = scene_.bodies[i].half_extents;
+      double v = 0, w = 0;
+      for (int k = 0; k < 3; ++k) {
+        v = std::max(v, std::fabs(s[i].v[k]));
+        w = std::max(w, std::fabs(s[i].w[k]));
+      }
+      reach[i] = (v + g_dt + 3.0 * w * std::max(h.x, std::max(h.y, h.z))) * scene_.constants.dt;
+    }
+    auto lo_x = [&](std::size_t i) { return s[i].p[0] - g[i].aabb_half[0] - 0.5 * tol - reach[i]; };
     std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return lo_x(a) < lo_x(b); });
     for (std::size_t a = 0; a < n; ++a) {
       const std::size_t i = order[a];
-      const double hi_x = s[i].p[0] + g[i].aabb_half[0] + 0.5 * tol;
+      const double hi_x = s[i].p[0] + g[i].aabb_half[0] + 0.5 * tol + reach[i];
       for (std::size_t b = a + 1; b < n; ++b) {
         const std::size_t j = order[b];
         if (lo_x(j) > hi_x) break;
         if (scene_.bodies[i].is_static && scene_.bodies[j].is_static) continue;
         double overlap[3];
         for (int k = 0; k < 3; ++k) overlap[k] = g[i].aabb_half[k] + g[j].aabb_half[k] - std::fabs(s[i].p[k] - s[j].p[k]);
-        if (!(overlap[0] > -tol && overlap[1] > -tol && overlap[2] > -tol)) continue;
+        const double ext = tol + reach[i] + reach[j];
+        if (!(overlap[0] > -ext && overlap[1] > -ext && overlap[2] > -ext)) continue;
+        const bool near = overlap[0] > -tol && overlap[1] > -tol && overlap[2] > -tol;
         if (scene_.pair_contacts == PairModel::kOrientedBox) {
           // The oriented-box model (eqs 100-110): the manifold's normal and
           // depths; its correction can lift the side the normal points to by
@@ -144,6 +174,18 @@ Monitor::ContactView Monitor::contacts_of(const std::vector<BodySnapshot>& s, co
             const Vec3d& h = scene_.bodies[k].half_extents;
             return Vec3<double>{h.x, h.y, h.z};
           };
+          // The chain (below): any pair the frame may make a contact, a
+          // speculative one included (its gap, a negative depth, is what a
+          // lower side lifted into it must first close).
+          const BoxManifold<double> reachable =
+              box_box_manifold(vec(s[a_].p), mat(a_), half(a_), vec(s[b_].p), mat(b_), half(b_), ext);
+          if (reachable.count > 0 && reachable.n.y != 0.0) {
+            double deepest = reachable.penetration[0];
+            for (int k = 1; k < reachable.count; ++k) deepest = std::max(deepest, reachable.penetration[k]);
+            carried.push_back({reachable.n.y > 0.0 ? a_ : b_, reachable.n.y > 0.0 ? b_ : a_,
+                               deepest * std::fabs(reachable.n.y)});
+          }
+          if (!near) continue;
           const BoxManifold<double> m =
               box_box_manifold(vec(s[a_].p), mat(a_), half(a_), vec(s[b_].p), mat(b_), half(b_), tol);
           if (m.count == 0) continue;
@@ -158,6 +200,7 @@ Monitor::ContactView Monitor::contacts_of(const std::vector<BodySnapshot>& s, co
           view.load[lower] = std::max(view.load[lower], deepest);
           continue;
         }
+        if (!near) continue;
         view.touching[i] = view.touching[j] = 1;
         const double pen = std::min(overlap[0], std::min(overlap[1], overlap[2]));  // < 0: a gap
         if (pen <= 0.0) continue;
@@ -169,6 +212,22 @@ Monitor::ContactView Monitor::contacts_of(const std::vector<BodySnapshot>& s, co
         view.load[lower] = std::max(view.load[lower], pen);
       }
     }
+  }
+  // The chain (eq 110 visits the pairs bottom up; a lift the pair sees is at
+  // most the lower side's own lift, max(0, lift - slop) * baumgarte): passes
+  // until no bound grows, at most one per body (each pass carries a lift one
+  // pair further up).
+  const Constants& c = scene_.constants;
+  for (std::size_t pass = 0; pass < n && !carried.empty(); ++pass) {
+    bool grew = false;
+    for (const Carried& k : carried) {
+      const double bound = k.own + std::max(0.0, view.lift[k.lower] - c.slop) * c.baumgarte;
+      if (bound > view.lift[k.upper]) {
+        view.lift[k.upper] = bound;
+        grew = true;
+      }
+    }
+    if (!grew) break;
   }
   return view;
 }
