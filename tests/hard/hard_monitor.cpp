@@ -3,6 +3,7 @@
 #include "lockstep/physics/box_box.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <numeric>
@@ -96,6 +97,24 @@ Monitor::ContactView Monitor::contacts_of(const std::vector<BodySnapshot>& s, co
   view.lift.assign(n, 0.0);
   view.load.assign(n, 0.0);
   view.touching.assign(n, 0);
+  view.misalign.assign(n, 0.0);
+  // Per body, the sum of its support normals (the ground's and its box-box
+  // pairs'): eq 66's alignment is taken against the body's support normal,
+  // the normalised mean of some of them (4.1); the misalignment is bounded
+  // here by the largest against each of them and against their mean.
+  std::vector<std::array<double, 3>> normal_sum(n, {0.0, 0.0, 0.0});
+  auto misalign_against = [&](std::size_t i, double nx, double ny, double nz) {
+    double best = 0.0;
+    for (int k = 0; k < 3; ++k)
+      best = std::max(best, std::fabs(g[i].R[0][k] * nx + g[i].R[1][k] * ny + g[i].R[2][k] * nz));
+    return 1.0 - best;
+  };
+  auto add_support_normal = [&](std::size_t i, double nx, double ny, double nz) {
+    view.misalign[i] = std::max(view.misalign[i], misalign_against(i, nx, ny, nz));
+    normal_sum[i][0] += nx;
+    normal_sum[i][1] += ny;
+    normal_sum[i][2] += nz;
+  };
   // Points within contact_tolerance of touching are (speculative) contacts
   // (eq 97): they count as touching, for the righting allowance.
   const double tol = scene_.constants.contact_tolerance;
@@ -104,7 +123,10 @@ Monitor::ContactView Monitor::contacts_of(const std::vector<BodySnapshot>& s, co
     for (std::size_t i = 0; i < n; ++i) {
       if (scene_.bodies[i].is_static) continue;
       const double depth = scene_.ground.height - g[i].lowest_y;
-      if (depth > -tol) view.touching[i] = 1;  // a (speculative, eq 97) contact
+      if (depth > -tol) {
+        view.touching[i] = 1;  // a (speculative, eq 97) contact
+        add_support_normal(i, 0.0, 1.0, 0.0);
+      }
       view.lift[i] = std::max(view.lift[i], depth);
     }
   }
@@ -190,6 +212,13 @@ Monitor::ContactView Monitor::contacts_of(const std::vector<BodySnapshot>& s, co
               box_box_manifold(vec(s[a_].p), mat(a_), half(a_), vec(s[b_].p), mat(b_), half(b_), tol);
           if (m.count == 0) continue;
           view.touching[i] = view.touching[j] = 1;
+          if (std::fabs(m.n.y) >= scene_.constants.support_normal_min) {
+            // A support contact of its upper side (4.1): the righting torque
+            // (67-71) aligns that body with the support normal, not with y.
+            const std::size_t up_side = m.n.y > 0.0 ? a_ : b_;
+            const double sgn = m.n.y > 0.0 ? 1.0 : -1.0;
+            add_support_normal(up_side, sgn * m.n.x, sgn * m.n.y, sgn * m.n.z);
+          }
           double deepest = m.penetration[0];
           for (int k = 1; k < m.count; ++k) deepest = std::max(deepest, m.penetration[k]);
           if (deepest <= 0.0) continue;
@@ -212,6 +241,13 @@ Monitor::ContactView Monitor::contacts_of(const std::vector<BodySnapshot>& s, co
         view.load[lower] = std::max(view.load[lower], pen);
       }
     }
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const double len = std::sqrt(normal_sum[i][0] * normal_sum[i][0] + normal_sum[i][1] * normal_sum[i][1] +
+                                 normal_sum[i][2] * normal_sum[i][2]);
+    if (len > 0.0)
+      view.misalign[i] = std::max(view.misalign[i], misalign_against(i, normal_sum[i][0] / len, normal_sum[i][1] / len,
+                                                                     normal_sum[i][2] / len));
   }
   // The chain (eq 110 visits the pairs bottom up; a lift the pair sees is at
   // most the lower side's own lift, max(0, lift - slop) * baumgarte): passes
@@ -238,7 +274,7 @@ void Monitor::step() {
   for (std::size_t i = 0; i < prev_.size(); ++i) {
     max_lift_[i] = std::max(max_lift_[i], before.lift[i]);
     if (before.touching[i] && scene_.effects.settling)
-      max_misalign_[i] = std::max(max_misalign_[i], 1.0 - prev_geom_[i].alignment);
+      max_misalign_[i] = std::max(max_misalign_[i], std::max(1.0 - prev_geom_[i].alignment, before.misalign[i]));
   }
   run_.step();
   const int frame = ++stats_.frames;

@@ -115,6 +115,7 @@ class Monitor {
   struct ContactView {
     std::vector<double> lift, load;
     std::vector<char> touching;
+    std::vector<double> misalign;  // 1 - eq 66 against its support normals (0: none)
     double deepest_pair = 0.0;
   };
   ContactView contacts_of(const std::vector<BodySnapshot>& s, const std::vector<BodyGeometry>& g) const;
