@@ -173,4 +173,46 @@ TEST(AgreementMeta, AFailingCaseShrinksAndIsWrittenAsASceneThatReproduces) {
   std::filesystem::remove(tol_path);
 }
 
+// The ensemble's judgement can fail: on the plain one-cube drop (not
+// chaotic: every member ends as double does), a track equal to double's
+// passes, and the same track moved 0.2 m along x, asleep 40 frames later, or
+// awake at the end fails, naming the quantity.
+TEST(EnsembleJudge, AnEngineOutsideTheSpreadFails) {
+  // The generator's plain case: a unit cube of 1 kg dropped upright from
+  // 0.875 m (its half diagonal rounded up to 1/64 m) onto the ground at 0.
+  Scene scene;
+  scene.name = "agreement_case";
+  scene.frames = 480;
+  scene.effects.sdf = false;
+  scene.ground.material = {0.0, 0.5};
+  BodyDesc cube;
+  cube.material = {0.0, 0.5};
+  cube.position = {0.0, 0.875, 0.0};
+  scene.bodies.push_back(cube);
+  scene = lockstep_test::as_fixed_sees_it(scene);
+  const CompareTolerances t = prop_tolerances();
+  const lockstep_test::Ensemble e = lockstep_test::ensemble_of(scene, record_models, false);
+  EXPECT_FALSE(lockstep_test::chaotic(scene, e, t));
+  EngineTrack same = e.members[0];
+  same.name = "fixed";
+  EXPECT_TRUE(lockstep_test::outside_ensemble(scene, e, same, t).empty());
+  ASSERT_TRUE(same.final_bodies[0].asleep);
+  EngineTrack moved = same;
+  moved.final_bodies[0].p[0] += 0.2;
+  const auto m = lockstep_test::outside_ensemble(scene, e, moved, t);
+  ASSERT_EQ(m.size(), 1u);
+  EXPECT_NE(m[0].find("rests at x"), std::string::npos) << m[0];
+  EngineTrack late = same;
+  late.final_bodies[0].sleep_frame += 40;
+  const auto l = lockstep_test::outside_ensemble(scene, e, late, t);
+  ASSERT_EQ(l.size(), 1u);
+  EXPECT_NE(l[0].find("falls asleep at frame"), std::string::npos) << l[0];
+  EngineTrack awake = same;
+  awake.final_bodies[0].asleep = false;
+  awake.final_bodies[0].sleep_frame = -1;
+  const auto a = lockstep_test::outside_ensemble(scene, e, awake, t);
+  ASSERT_EQ(a.size(), 1u);
+  EXPECT_NE(a[0].find("is awake at the end"), std::string::npos) << a[0];
+}
+
 }  // namespace
