@@ -1,6 +1,8 @@
 // Property-based agreement: on random simple scenes (scene_gen.hpp) the
 // fixed, double and (when built) gpu engines agree on every body's resting
-// state and sleep frame within kPropTolerances. A failing case is shrunk by
+// state and sleep frame within prop_tolerances(); a case that is chaotic at
+// the size the engines differ by is recognised and judged by an ensemble of
+// nudged double runs and mp (ensemble.hpp). A failing case is shrunk by
 // RapidCheck to a minimal scene and written as a scene file (scene_to_json)
 // whose path the failure message prints, with the property's tolerances
 // beside it: `lockstep compare FILE --tolerances FILE.tolerances.json`
@@ -12,6 +14,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
+#include <iostream>
 #include <sstream>
 
 #include "lockstep/compare/harness.hpp"
@@ -81,6 +84,11 @@ Recording record_models(const Scene& scene, const std::vector<std::string>& name
   return record(scene, std::move(runs), baseline);
 }
 
+// How the cases were judged (printed after the property).
+struct CaseCounts {
+  int chaotic = 0, bodies = 0;
+} g_cases;
+
 // Runs the scene and returns the failed rest, sleep and run checks, as lines.
 std::vector<std::string> disagreements(const Scene& scene, const CompareTolerances& t) {
   const Recording r = record_models(scene, engines_under_test(scene));
@@ -91,6 +99,7 @@ std::vector<std::string> disagreements(const Scene& scene, const CompareToleranc
   const lockstep_test::Ensemble e = lockstep_test::ensemble_of(scene, record_models, false);
   if (lockstep_test::chaotic(scene, e, t)) {
     RC_TAG("chaotic (double parts from mp or from itself nudged by 2^-22 to 2^-10): judged by the ensemble");
+    ++g_cases.chaotic;
     for (const EngineTrack& track : r.engines) {
       if (track.name == "double") continue;
       for (std::string& line : lockstep_test::outside_ensemble(scene, e, track, t)) out.push_back(std::move(line));
@@ -98,6 +107,7 @@ std::vector<std::string> disagreements(const Scene& scene, const CompareToleranc
     return out;
   }
   RC_TAG("judged body by body");
+  ++g_cases.bodies;
   const Verdict v = judge(r, t);
   for (const Finding& f : v.failures())
     if (f.check != "trajectory") out.push_back(f.message(v.baseline));
@@ -137,6 +147,8 @@ TEST(AgreementProp, FixedDoubleAndGpuAgreeOnRestAndSleep) {
   const auto result = run_property(
       [&] { check_agreement(lockstep_test::as_fixed_sees_it(*lockstep_test::gen_simple_scene()), prop_tolerances(), path); },
       LOCKSTEP_PROP_CASES, "AgreementProp/FixedDoubleAndGpuAgreeOnRestAndSleep");
+  std::cout << "cases judged body by body: " << g_cases.bodies << ", chaotic (judged by the ensemble): "
+            << g_cases.chaotic << "\n";
   if (!result.template is<rc::detail::SuccessResult>()) {
     std::ostringstream ss;
     rc::detail::printResultMessage(result, ss);
