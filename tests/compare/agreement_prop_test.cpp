@@ -1,6 +1,8 @@
 // Property-based agreement: on random simple scenes (scene_gen.hpp) the
 // fixed, double and (when built) gpu engines agree on every body's resting
-// state and sleep frame within kPropTolerances. A failing case is shrunk by
+// state and sleep frame within prop_tolerances(); a case that is chaotic at
+// the size the engines differ by is recognised and judged by an ensemble of
+// nudged double runs and mp (ensemble.hpp). A failing case is shrunk by
 // RapidCheck to a minimal scene and written as a scene file (scene_to_json)
 // whose path the failure message prints, with the property's tolerances
 // beside it: `lockstep compare FILE --tolerances FILE.tolerances.json`
@@ -12,6 +14,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
+#include <iostream>
 #include <sstream>
 
 #include "lockstep/compare/harness.hpp"
@@ -20,7 +23,14 @@
 #include <cmath>
 
 #include "lockstep/fixed/q16.hpp"
+#include "lockstep/fixed/q16_num.hpp"
+#include "lockstep/physics/params.hpp"
+#include "ensemble.hpp"
 #include "scene_gen.hpp"
+
+#ifndef LOCKSTEP_FAILURE_DEFAULT_DIR
+#error "LOCKSTEP_FAILURE_DEFAULT_DIR: set by tests/compare/CMakeLists.txt to a directory of the build tree"
+#endif
 
 #ifndef LOCKSTEP_PROP_CASES
 #define LOCKSTEP_PROP_CASES 60
@@ -50,79 +60,55 @@ CompareTolerances prop_tolerances() {
   return t;
 }
 
+// Where a failing case is written: $LOCKSTEP_FAILURE_DIR, else the test's
+// directory in the build tree (tests/compare/CMakeLists.txt), never the
+// working directory (a run from the source tree would write into it).
 std::string failure_dir() {
   const char* d = std::getenv("LOCKSTEP_FAILURE_DIR");
-  return d && *d ? d : std::filesystem::current_path().string();
+  return d && *d ? d : LOCKSTEP_FAILURE_DEFAULT_DIR;
 }
 
-// The scene as the fixed engine sees it: every constant rounded to Q16.16
-// (eq 22), as the bodies' values already are (scene_gen.hpp), so that double
-// and mp run the same model (Δt = 1092/65536 s, g = 642908/65536 m/s^2, ...)
-// and the property judges the number types, not the fixed engine's model
-// difference (docs/SPEC.md 7.1, Fix 5).
-lockstep::Scene as_fixed_sees_it(lockstep::Scene s) {
-  auto q = [](double& x) { x = lockstep::Q16::from_double(x).to_double(); };
-  lockstep::Constants& c = s.constants;
-  for (double* x : {&c.dt, &c.linear_damping, &c.angular_damping, &c.cell_size, &c.slop, &c.baumgarte, &c.contact_tolerance, &c.kp, &c.kd, &c.speed_factor_min, &c.speed_factor_max, &c.support_normal_min, &c.align_fine, &c.align_good, &c.align_fair, &c.damp_fine, &c.damp_good, &c.damp_fair, &c.rest_speed, &c.restitution_min_speed, &c.settle_speed, &c.settle_damping, &c.sleep_linear, &c.sleep_angular, &c.sleep_alignment, &c.drowsy_damping, &c.wake_speed, &c.wake_penetration, &c.wake_support_distance, &c.gravity.x, &c.gravity.y, &c.gravity.z}) q(*x);
-  q(s.ground.height);
-  return s;
-}
 
-// Is the scene chaotic at the resolution the engines differ by? Either double
-// and the mp truth part, or double parts from itself when every body starts
-// one Q16.16 ulp (2^-16) away (position along x or z, or orientation): then
-// which way the scene goes is
-// decided by a rounding, no engine can be asked to follow double body by body,
-// and the scene is judged by statistics (resting heights, faces up, sleep),
-// as the piles are (docs/COMPARE.md). "Part": a trajectory beyond the default
-// 0.05 m / 0.1 rad, or a rest position or sleep frame beyond the property's
-// tolerances.
-bool parts(const Recording& r, const CompareTolerances& t) {
-  for (const Finding& f : judge(r, t).failures())
-    if (f.check != "run") return true;
-  return false;
-}
-bool chaotic(const Scene& scene) {
-  CompareTolerances bodies = prop_tolerances();
-  bodies.judge = Judge::bodies;
-  if (parts(record(scene, {"double", "mp"}, "double"), bodies)) return true;
-  const Recording base = record(scene, {"double"}, "double");
-  constexpr double kUlp = 1.0 / 65536.0;
-  // Six nudges of every body: its position by +-1 ulp along x and z, its
-  // orientation by +-1 ulp in the quaternion's x component.
-  for (int k = 0; k < 6; ++k) {
-    Scene nudged = scene;
-    const double d = (k % 2 == 0) ? kUlp : -kUlp;
-    for (BodyDesc& b : nudged.bodies) {
-      if (k < 2) b.position.x += d;
-      else if (k < 4) b.position.z += d;
-      else b.orientation.x += d;
-    }
-    const Recording r = record(nudged, {"double"}, "double");
-    for (std::size_t i = 0; i < base.engines[0].final_bodies.size(); ++i) {
-      const BodySnapshot& x = base.engines[0].final_bodies[i];
-      const BodySnapshot& y = r.engines[0].final_bodies[i];
-      const double dx = y.p[0] - x.p[0], dy = y.p[1] - x.p[1], dz = y.p[2] - x.p[2];
-      if (std::sqrt(dx * dx + dy * dy + dz * dz) > bodies.rest_position - 2 * kUlp) return true;
-      if ((x.sleep_frame >= 0) != (y.sleep_frame >= 0)) return true;
-      if (x.sleep_frame >= 0 && std::abs(x.sleep_frame - y.sleep_frame) > bodies.sleep_frames) return true;
-    }
+
+// record() with double (the baseline) and mp on ieee_model_of(scene), the
+// other engines on the scene itself.
+Recording record_models(const Scene& scene, const std::vector<std::string>& names) {
+  const Scene ieee = lockstep_test::ieee_model_of(scene);
+  std::vector<std::unique_ptr<EngineRun>> runs;
+  int baseline = -1;
+  for (const std::string& n : names) {
+    const bool is_ieee = n == "double" || n == "mp";
+    if (n == "double") baseline = static_cast<int>(runs.size());
+    runs.push_back(make_engine(n, is_ieee ? ieee : scene));
   }
-  return false;
+  return record(scene, std::move(runs), baseline);
 }
+
+// How the cases were judged (printed after the property).
+struct CaseCounts {
+  int chaotic = 0, bodies = 0;
+} g_cases;
 
 // Runs the scene and returns the failed rest, sleep and run checks, as lines.
-std::vector<std::string> disagreements(const Scene& scene, const CompareTolerances& tolerances) {
-  CompareTolerances t = tolerances;
-  if (t.judge == Judge::bodies && chaotic(scene)) {
-    t.judge = Judge::statistics;
-    RC_TAG("chaotic (double parts from mp or from itself nudged by 1 ulp): judged by statistics");
-  } else {
-    RC_TAG("judged body by body");
-  }
-  const Recording r = record(scene, engines_under_test(scene), "double");
-  const Verdict v = judge(r, t);
+std::vector<std::string> disagreements(const Scene& scene, const CompareTolerances& t) {
+  const Recording r = record_models(scene, engines_under_test(scene));
   std::vector<std::string> out;
+  for (const EngineTrack& track : r.engines)
+    if (track.failed) out.push_back(track.name + ": stopped: " + track.failure.message);
+  if (!out.empty()) return out;
+  const lockstep_test::Ensemble e = lockstep_test::ensemble_of(scene, record_models, false);
+  if (lockstep_test::chaotic(scene, e, t)) {
+    RC_TAG("chaotic (double parts from mp or from itself nudged by 2^-22 to 2^-10): judged by the ensemble");
+    ++g_cases.chaotic;
+    for (const EngineTrack& track : r.engines) {
+      if (track.name == "double") continue;
+      for (std::string& line : lockstep_test::outside_ensemble(scene, e, track, t)) out.push_back(std::move(line));
+    }
+    return out;
+  }
+  RC_TAG("judged body by body");
+  ++g_cases.bodies;
+  const Verdict v = judge(r, t);
   for (const Finding& f : v.failures())
     if (f.check != "trajectory") out.push_back(f.message(v.baseline));
   return out;
@@ -159,8 +145,10 @@ rc::detail::TestResult run_property(Testable&& testable, int cases, const std::s
 TEST(AgreementProp, FixedDoubleAndGpuAgreeOnRestAndSleep) {
   const std::string path = (std::filesystem::path(failure_dir()) / "agreement_failure.json").string();
   const auto result = run_property(
-      [&] { check_agreement(as_fixed_sees_it(*lockstep_test::gen_simple_scene()), prop_tolerances(), path); },
+      [&] { check_agreement(lockstep_test::as_fixed_sees_it(*lockstep_test::gen_simple_scene()), prop_tolerances(), path); },
       LOCKSTEP_PROP_CASES, "AgreementProp/FixedDoubleAndGpuAgreeOnRestAndSleep");
+  std::cout << "cases judged body by body: " << g_cases.bodies << ", chaotic (judged by the ensemble): "
+            << g_cases.chaotic << "\n";
   if (!result.template is<rc::detail::SuccessResult>()) {
     std::ostringstream ss;
     rc::detail::printResultMessage(result, ss);
@@ -195,6 +183,48 @@ TEST(AgreementMeta, AFailingCaseShrinksAndIsWrittenAsASceneThatReproduces) {
   EXPECT_EQ(load_tolerances_file(tol_path, CompareTolerances{}).rest_position, 0.0);
   std::filesystem::remove(path);
   std::filesystem::remove(tol_path);
+}
+
+// The ensemble's judgement can fail: on the plain one-cube drop (not
+// chaotic: every member ends as double does), a track equal to double's
+// passes, and the same track moved 0.2 m along x, asleep 40 frames later, or
+// awake at the end fails, naming the quantity.
+TEST(EnsembleJudge, AnEngineOutsideTheSpreadFails) {
+  // The generator's plain case: a unit cube of 1 kg dropped upright from
+  // 0.875 m (its half diagonal rounded up to 1/64 m) onto the ground at 0.
+  Scene scene;
+  scene.name = "agreement_case";
+  scene.frames = 480;
+  scene.effects.sdf = false;
+  scene.ground.material = {0.0, 0.5};
+  BodyDesc cube;
+  cube.material = {0.0, 0.5};
+  cube.position = {0.0, 0.875, 0.0};
+  scene.bodies.push_back(cube);
+  scene = lockstep_test::as_fixed_sees_it(scene);
+  const CompareTolerances t = prop_tolerances();
+  const lockstep_test::Ensemble e = lockstep_test::ensemble_of(scene, record_models, false);
+  EXPECT_FALSE(lockstep_test::chaotic(scene, e, t));
+  EngineTrack same = e.members[0];
+  same.name = "fixed";
+  EXPECT_TRUE(lockstep_test::outside_ensemble(scene, e, same, t).empty());
+  ASSERT_TRUE(same.final_bodies[0].asleep);
+  EngineTrack moved = same;
+  moved.final_bodies[0].p[0] += 0.2;
+  const auto m = lockstep_test::outside_ensemble(scene, e, moved, t);
+  ASSERT_EQ(m.size(), 1u);
+  EXPECT_NE(m[0].find("rests at x"), std::string::npos) << m[0];
+  EngineTrack late = same;
+  late.final_bodies[0].sleep_frame += 40;
+  const auto l = lockstep_test::outside_ensemble(scene, e, late, t);
+  ASSERT_EQ(l.size(), 1u);
+  EXPECT_NE(l[0].find("falls asleep at frame"), std::string::npos) << l[0];
+  EngineTrack awake = same;
+  awake.final_bodies[0].asleep = false;
+  awake.final_bodies[0].sleep_frame = -1;
+  const auto a = lockstep_test::outside_ensemble(scene, e, awake, t);
+  ASSERT_EQ(a.size(), 1u);
+  EXPECT_NE(a[0].find("is awake at the end"), std::string::npos) << a[0];
 }
 
 }  // namespace

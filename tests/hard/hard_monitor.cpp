@@ -3,6 +3,7 @@
 #include "lockstep/physics/box_box.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <numeric>
@@ -96,6 +97,24 @@ Monitor::ContactView Monitor::contacts_of(const std::vector<BodySnapshot>& s, co
   view.lift.assign(n, 0.0);
   view.load.assign(n, 0.0);
   view.touching.assign(n, 0);
+  view.misalign.assign(n, 0.0);
+  // Per body, the sum of its support normals (the ground's and its box-box
+  // pairs'): eq 66's alignment is taken against the body's support normal,
+  // the normalised mean of some of them (4.1); the misalignment is bounded
+  // here by the largest against each of them and against their mean.
+  std::vector<std::array<double, 3>> normal_sum(n, {0.0, 0.0, 0.0});
+  auto misalign_against = [&](std::size_t i, double nx, double ny, double nz) {
+    double best = 0.0;
+    for (int k = 0; k < 3; ++k)
+      best = std::max(best, std::fabs(g[i].R[0][k] * nx + g[i].R[1][k] * ny + g[i].R[2][k] * nz));
+    return 1.0 - best;
+  };
+  auto add_support_normal = [&](std::size_t i, double nx, double ny, double nz) {
+    view.misalign[i] = std::max(view.misalign[i], misalign_against(i, nx, ny, nz));
+    normal_sum[i][0] += nx;
+    normal_sum[i][1] += ny;
+    normal_sum[i][2] += nz;
+  };
   // Points within contact_tolerance of touching are (speculative) contacts
   // (eq 97): they count as touching, for the righting allowance.
   const double tol = scene_.constants.contact_tolerance;
@@ -104,7 +123,10 @@ Monitor::ContactView Monitor::contacts_of(const std::vector<BodySnapshot>& s, co
     for (std::size_t i = 0; i < n; ++i) {
       if (scene_.bodies[i].is_static) continue;
       const double depth = scene_.ground.height - g[i].lowest_y;
-      if (depth > -tol) view.touching[i] = 1;  // a (speculative, eq 97) contact
+      if (depth > -tol) {
+        view.touching[i] = 1;  // a (speculative, eq 97) contact
+        add_support_normal(i, 0.0, 1.0, 0.0);
+      }
       view.lift[i] = std::max(view.lift[i], depth);
     }
   }
@@ -114,21 +136,51 @@ Monitor::ContactView Monitor::contacts_of(const std::vector<BodySnapshot>& s, co
   // loads the lower one; the lift is counted as if the upper body took the
   // whole correction (an upper bound: with both bodies awake the split of
   // eq 89 adds no potential energy at all).
+  // Eq 110 corrects a box-box pair by its depth less what the stage has
+  // already moved its two sides apart: a lower side lifted first (by the
+  // ground, which is corrected first, or by its own pair below) lifts the
+  // upper side by that much more (a body placed 0.32 m deep into a box that
+  // the box below it lifts by 0.1 m rises 0.42 m in one frame). The lift of
+  // the upper side of a support pair is therefore bounded by its own depth
+  // plus the lift of its lower side, carried up the chain below.
+  struct Carried {
+    std::size_t upper, lower;
+    double own;  // deepest point times |n_y| (m); < 0: a speculative pair's gap
+  };
+  std::vector<Carried> carried;
   if (scene_.effects.contacts && n >= 2) {
     std::vector<std::size_t> order(n);
     std::iota(order.begin(), order.end(), std::size_t{0});
-    auto lo_x = [&](std::size_t i) { return s[i].p[0] - g[i].aabb_half[0] - 0.5 * tol; };
+    // A pair is a (speculative) contact of the frame only within eq 107's
+    // reach of its bodies: (|v|inf + |g| dt + 3 |w|inf h_max) dt each, an
+    // upper bound (eq 107 caps both speeds at 64 m/s).
+    std::vector<double> reach(n, 0.0);
+    const double g_dt = std::sqrt(scene_.constants.gravity.x * scene_.constants.gravity.x +
+                                  scene_.constants.gravity.y * scene_.constants.gravity.y +
+                                  scene_.constants.gravity.z * scene_.constants.gravity.z) * scene_.constants.dt;
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec3d& h = scene_.bodies[i].half_extents;
+      double v = 0, w = 0;
+      for (int k = 0; k < 3; ++k) {
+        v = std::max(v, std::fabs(s[i].v[k]));
+        w = std::max(w, std::fabs(s[i].w[k]));
+      }
+      reach[i] = (v + g_dt + 3.0 * w * std::max(h.x, std::max(h.y, h.z))) * scene_.constants.dt;
+    }
+    auto lo_x = [&](std::size_t i) { return s[i].p[0] - g[i].aabb_half[0] - 0.5 * tol - reach[i]; };
     std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return lo_x(a) < lo_x(b); });
     for (std::size_t a = 0; a < n; ++a) {
       const std::size_t i = order[a];
-      const double hi_x = s[i].p[0] + g[i].aabb_half[0] + 0.5 * tol;
+      const double hi_x = s[i].p[0] + g[i].aabb_half[0] + 0.5 * tol + reach[i];
       for (std::size_t b = a + 1; b < n; ++b) {
         const std::size_t j = order[b];
         if (lo_x(j) > hi_x) break;
         if (scene_.bodies[i].is_static && scene_.bodies[j].is_static) continue;
         double overlap[3];
         for (int k = 0; k < 3; ++k) overlap[k] = g[i].aabb_half[k] + g[j].aabb_half[k] - std::fabs(s[i].p[k] - s[j].p[k]);
-        if (!(overlap[0] > -tol && overlap[1] > -tol && overlap[2] > -tol)) continue;
+        const double ext = tol + reach[i] + reach[j];
+        if (!(overlap[0] > -ext && overlap[1] > -ext && overlap[2] > -ext)) continue;
+        const bool near = overlap[0] > -tol && overlap[1] > -tol && overlap[2] > -tol;
         if (scene_.pair_contacts == PairModel::kOrientedBox) {
           // The oriented-box model (eqs 100-110): the manifold's normal and
           // depths; its correction can lift the side the normal points to by
@@ -144,10 +196,29 @@ Monitor::ContactView Monitor::contacts_of(const std::vector<BodySnapshot>& s, co
             const Vec3d& h = scene_.bodies[k].half_extents;
             return Vec3<double>{h.x, h.y, h.z};
           };
+          // The chain (below): any pair the frame may make a contact, a
+          // speculative one included (its gap, a negative depth, is what a
+          // lower side lifted into it must first close).
+          const BoxManifold<double> reachable =
+              box_box_manifold(vec(s[a_].p), mat(a_), half(a_), vec(s[b_].p), mat(b_), half(b_), ext);
+          if (reachable.count > 0 && reachable.n.y != 0.0) {
+            double deepest = reachable.penetration[0];
+            for (int k = 1; k < reachable.count; ++k) deepest = std::max(deepest, reachable.penetration[k]);
+            carried.push_back({reachable.n.y > 0.0 ? a_ : b_, reachable.n.y > 0.0 ? b_ : a_,
+                               deepest * std::fabs(reachable.n.y)});
+          }
+          if (!near) continue;
           const BoxManifold<double> m =
               box_box_manifold(vec(s[a_].p), mat(a_), half(a_), vec(s[b_].p), mat(b_), half(b_), tol);
           if (m.count == 0) continue;
           view.touching[i] = view.touching[j] = 1;
+          if (std::fabs(m.n.y) >= scene_.constants.support_normal_min) {
+            // A support contact of its upper side (4.1): the righting torque
+            // (67-71) aligns that body with the support normal, not with y.
+            const std::size_t up_side = m.n.y > 0.0 ? a_ : b_;
+            const double sgn = m.n.y > 0.0 ? 1.0 : -1.0;
+            add_support_normal(up_side, sgn * m.n.x, sgn * m.n.y, sgn * m.n.z);
+          }
           double deepest = m.penetration[0];
           for (int k = 1; k < m.count; ++k) deepest = std::max(deepest, m.penetration[k]);
           if (deepest <= 0.0) continue;
@@ -158,6 +229,7 @@ Monitor::ContactView Monitor::contacts_of(const std::vector<BodySnapshot>& s, co
           view.load[lower] = std::max(view.load[lower], deepest);
           continue;
         }
+        if (!near) continue;
         view.touching[i] = view.touching[j] = 1;
         const double pen = std::min(overlap[0], std::min(overlap[1], overlap[2]));  // < 0: a gap
         if (pen <= 0.0) continue;
@@ -170,6 +242,29 @@ Monitor::ContactView Monitor::contacts_of(const std::vector<BodySnapshot>& s, co
       }
     }
   }
+  for (std::size_t i = 0; i < n; ++i) {
+    const double len = std::sqrt(normal_sum[i][0] * normal_sum[i][0] + normal_sum[i][1] * normal_sum[i][1] +
+                                 normal_sum[i][2] * normal_sum[i][2]);
+    if (len > 0.0)
+      view.misalign[i] = std::max(view.misalign[i], misalign_against(i, normal_sum[i][0] / len, normal_sum[i][1] / len,
+                                                                     normal_sum[i][2] / len));
+  }
+  // The chain (eq 110 visits the pairs bottom up; a lift the pair sees is at
+  // most the lower side's own lift, max(0, lift - slop) * baumgarte): passes
+  // until no bound grows, at most one per body (each pass carries a lift one
+  // pair further up).
+  const Constants& c = scene_.constants;
+  for (std::size_t pass = 0; pass < n && !carried.empty(); ++pass) {
+    bool grew = false;
+    for (const Carried& k : carried) {
+      const double bound = k.own + std::max(0.0, view.lift[k.lower] - c.slop) * c.baumgarte;
+      if (bound > view.lift[k.upper]) {
+        view.lift[k.upper] = bound;
+        grew = true;
+      }
+    }
+    if (!grew) break;
+  }
   return view;
 }
 
@@ -179,7 +274,7 @@ void Monitor::step() {
   for (std::size_t i = 0; i < prev_.size(); ++i) {
     max_lift_[i] = std::max(max_lift_[i], before.lift[i]);
     if (before.touching[i] && scene_.effects.settling)
-      max_misalign_[i] = std::max(max_misalign_[i], 1.0 - prev_geom_[i].alignment);
+      max_misalign_[i] = std::max(max_misalign_[i], std::max(1.0 - prev_geom_[i].alignment, before.misalign[i]));
   }
   run_.step();
   const int frame = ++stats_.frames;

@@ -10,13 +10,16 @@
 //          penetration of a contact whose correction (eqs 63, 89, 110) lifts
 //          it (the ground; a body-body contact along y, for the upper body;
 //          with the oriented-box model, eqs 100-106, the pair manifold's
-//          deepest point times |n_y|, for the side n points to) in
-//          frames 1..n, measured on the state each frame starts from (what
-//          its narrow phase sees): one lift out of the deepest penetration;
+//          deepest point times |n_y|, for the side n points to, plus the
+//          lift of its lower side carried up eq 110's chain, speculative
+//          pairs within eq 107's reach included) in frames 1..n, measured
+//          on the state each frame starts from (what its narrow phase
+//          sees): one lift out of the deepest penetration;
 //    S(n): per body, 1/2 I_max w_d^2, w_d = kp * max(speed_factor_min,
-//          speed_factor_max) * the largest misalignment (1 - eq 66) the body
-//          has had while touching something (within contact_tolerance: a
-//          speculative contact, eq 97): the most spin the righting torque
+//          speed_factor_max) * the largest misalignment (1 - eq 66, against
+//          y and against its support normals) the body has had while
+//          touching something (within contact_tolerance: a speculative
+//          contact, eq 97): the most spin the righting torque
 //          (eqs 67-71) can set up;
 //    W(n): the engine keeps w constant while a body turns (eq 11 with
 //          alpha = 0: no gyroscopic term), so the rotational energy
@@ -115,6 +118,7 @@ class Monitor {
   struct ContactView {
     std::vector<double> lift, load;
     std::vector<char> touching;
+    std::vector<double> misalign;  // 1 - eq 66 against its support normals (0: none)
     double deepest_pair = 0.0;
   };
   ContactView contacts_of(const std::vector<BodySnapshot>& s, const std::vector<BodyGeometry>& g) const;

@@ -93,6 +93,20 @@ void assert_valid(const Scene& s) {
   RC_ASSERT(scene_difference(s, again) == "");
 }
 
+// fixed, float, double and, where it runs the scene's pair model
+// (engine_limitation: the GPU engine runs the source's AABB model only), gpu.
+// An engine is not given another model than the scene's: the AABB model lets
+// a box turning over an edge gain energy on every engine (docs/HARD_CASES.md),
+// so its energy would judge the model, not the engine; the GPU engine's AABB
+// path is judged against double and float in compare_validation_test
+// (ValidationAabbTest) and on the hard catalogue.
+std::vector<std::string> engines_running(const Scene& scene) {
+  std::vector<std::string> out;
+  for (const std::string& e : engines_for(false))
+    if (engine_limitation(e, scene).empty()) out.push_back(e);
+  return out;
+}
+
 void assert_invariants(const MonitoredRun& r) {
   const MonitorStats& s = r.stats();
   RC_LOG() << r.summary() << "\n";
@@ -106,7 +120,7 @@ void assert_invariants(const MonitoredRun& r) {
 RC_GTEST_PROP(RandomScenes, ValidAndStableOnEveryEngine, ()) {
   const Scene scene = random_scene();
   assert_valid(scene);
-  for (const std::string& engine : engines_for(false)) {
+  for (const std::string& engine : engines_running(scene)) {
     RC_LOG() << "engine " << engine << "\n";
     MonitoredRun r(scene, engine);
     r.run_to(scene.frames);
@@ -205,7 +219,7 @@ RC_GTEST_PROP(RandomScenes, TouchedSleeperWakesAndMoves, ()) {
   const Scene scene = sleeper_and_dropper();
   assert_valid(scene);
   const double tol = scene.constants.contact_tolerance, band = 1e-4;
-  for (const std::string& engine : engines_for(false)) {
+  for (const std::string& engine : engines_running(scene)) {
     RC_LOG() << "engine " << engine << "\n";
     MonitoredRun r(scene, engine);
     while (r.stats().frames < scene.frames && contact_margin(*r.monitor, tol, 0.0) <= band && r.error.empty()) {
