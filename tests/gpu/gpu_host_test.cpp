@@ -40,9 +40,10 @@ SideBySide expect_world_float_bits(const Scene& s) {
 // every frame of these single-body scenes (ground contacts, warm start,
 // speculative contacts, settling, sleep) is World<float>'s, bit for bit.
 TEST(GpuHost, SingleBodyScenesMatchWorldFloatBitForBit) {
+  for (const PairModel model : gpu_test::kBothModels)
   for (const char* name : {"drop", "bounce", "slide", "tip_edge", "tip_corner"}) {
-    SCOPED_TRACE(name);
-    const SideBySide r = expect_world_float_bits(scene(name));
+    SCOPED_TRACE(std::string(name) + " " + gpu_test::model_name(model));
+    const SideBySide r = expect_world_float_bits(scene(name, model));
     const StageCounters &a = r.gpu, &b = r.world;
     EXPECT_EQ(a.ground_contacts, b.ground_contacts);
     EXPECT_EQ(a.solver_contacts, b.solver_contacts);
@@ -63,9 +64,11 @@ TEST(GpuHost, SingleBodyScenesMatchWorldFloatBitForBit) {
 // the resting tower's top cube by centimetres; the Jacobi solver parts from
 // World on the dropped tower and the heavy cube.
 TEST(GpuHost, StacksMatchWorldFloatBitForBit) {
-  auto tower = [](int n, double gap) {
+  for (const PairModel model : gpu_test::kBothModels) {
+  SCOPED_TRACE(gpu_test::model_name(model));
+  auto tower = [model](int n, double gap) {
     Scene s;
-    s.pair_contacts = PairModel::kAabb;  // the GPU engine's model
+    s.pair_contacts = model;
     s.name = "tower" + std::to_string(n);
     s.frames = 300;
     s.effects.sdf = false;
@@ -77,7 +80,7 @@ TEST(GpuHost, StacksMatchWorldFloatBitForBit) {
     return s;
   };
   Scene heavy_on_light;
-  heavy_on_light.pair_contacts = PairModel::kAabb;  // the GPU engine's model
+  heavy_on_light.pair_contacts = model;
   heavy_on_light.name = "heavy_on_light";
   heavy_on_light.frames = 300;
   heavy_on_light.effects.sdf = false;
@@ -91,12 +94,15 @@ TEST(GpuHost, StacksMatchWorldFloatBitForBit) {
   heavy.mass = 1.3;
   heavy.position = {-0.125, 0.69, -0.125};
   heavy_on_light.bodies = {light, heavy};
-  for (const Scene& s : {tower(20, 0.0), tower(10, 0.1), scene("stack5"), heavy_on_light}) {
+  for (const Scene& s : {tower(20, 0.0), tower(10, 0.1), scene("stack5", model), heavy_on_light}) {
     SCOPED_TRACE(s.name);
     const SideBySide r = expect_world_float_bits(s);
     EXPECT_EQ(r.gpu.normal_impulses, r.world.normal_impulses);
     EXPECT_EQ(r.gpu.settling_bodies, r.world.settling_bodies);
+    EXPECT_EQ(r.gpu.body_contacts, r.world.body_contacts);
+    EXPECT_EQ(r.gpu.wakes, r.world.wakes);
     EXPECT_EQ(r.gpu_awake, 0);
+  }
   }
 }
 
