@@ -336,7 +336,7 @@ void Pipeline<B>::step() {
   // 2a (oriented-box model, eq 108, after stage 1 in World<T>; it reads
   // poses only): sleeping bodies whose support moved wake and join the awake
   // list after the integrated bodies.
-  if (oriented_ && fx_.sleep && n_awake > 0 && n_ - n_static_ - n_awake > 0) {
+  if (oriented_ && fx_.sleep && contacts && n_awake > 0 && n_ - n_static_ - n_awake > 0) {
     be_.fill_int(wake_sw_[0].data(), 0, static_cast<std::size_t>(n_));
     const int r = sweep_until_fixed(n_ + 2, [&](int in, int out, int* changed) {
       be_.for_n(n_, SupportWakeK{body_, sc_, rests(), wake_sw_[in].data(), wake_sw_[out].data(), changed});
