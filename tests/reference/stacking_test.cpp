@@ -142,12 +142,12 @@ void check_column(const Column& c) {
   check_run(w, c);
 }
 
-// The GPU engine's host build; `jacobi`: its Jacobi pair solver.
-void check_column_gpu(const Column& c, bool jacobi) {
+// The GPU engine's host build, its default (coloured) pair solver. (The
+// Jacobi variant fails this property: docs/GPU.md "Pair models".)
+void check_column_gpu(const Column& c) {
   gpu::GpuOptions o;
   o.backend = gpu::Backend::kHost;
   o.quiet = true;
-  if (jacobi) o.pair_solver = gpu::GpuOptions::PairSolver::kJacobi;
   gpu::GpuWorld w(c.scene, o);
   check_run(w, c);
 }
@@ -195,7 +195,7 @@ TEST(StackingProp, PerturbedColumnsStandAndSleepOnMp) {
   ::lockstep_test::check_prop([] { check_column<Mp>(*column_gen()); }, kStackCases);
 }
 TEST(StackingProp, PerturbedColumnsStandAndSleepOnGpu) {
-  ::lockstep_test::check_prop([] { check_column_gpu(*column_gen(), false); }, kStackCases);
+  ::lockstep_test::check_prop([] { check_column_gpu(*column_gen()); }, kStackCases);
 }
 
 }  // namespace
