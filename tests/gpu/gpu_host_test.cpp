@@ -247,7 +247,10 @@ TEST(GpuHost, EffectsNotCalledForDoNotRun) {
 // frame integrates, grids, tests and solves nothing; a pile built asleep
 // costs nothing from the first frame.
 TEST(GpuHost, SleepingPileIsCheap) {
-  const Scene pile = gpu_test::settling_pile(48, 3, false, 0.0);  // columns that land as stacks
+  for (const PairModel model : gpu_test::kBothModels) {
+  SCOPED_TRACE(gpu_test::model_name(model));
+  Scene pile = gpu_test::settling_pile(48, 3, false, 0.0);  // columns that land as stacks
+  pile.pair_contacts = model;
   GpuWorld g(pile, host_options());
   int frame = 0;
   while (g.awake_count() > 0 && frame < 1500) { g.step(); ++frame; }
@@ -263,11 +266,14 @@ TEST(GpuHost, SleepingPileIsCheap) {
   EXPECT_EQ(after.solver_contacts, before.solver_contacts);
   EXPECT_EQ(after.sleep_updates, before.sleep_updates);
 
-  GpuWorld asleep(gpu_test::settling_pile(1000, 4, true), host_options());
+  Scene built_asleep = gpu_test::settling_pile(1000, 4, true);
+  built_asleep.pair_contacts = model;
+  GpuWorld asleep(built_asleep, host_options());
   EXPECT_EQ(asleep.awake_count(), 0);
   for (int f = 0; f < 20; ++f) asleep.step();
   const StageCounters c = asleep.counters();
-  EXPECT_EQ(c.integrate_position + c.pairs_tested + c.solver_contacts + c.broadphase_bodies, 0u);
+  EXPECT_EQ(c.integrate_position + c.pairs_tested + c.solver_contacts + c.broadphase_bodies + c.wakes, 0u);
+  }
 }
 
 // A cube dropped onto a sleeping stack wakes what it hits (eq 81), and the
