@@ -74,7 +74,7 @@ inline double distance(const BodySnapshot& a, const BodySnapshot& b) {
 // `asleep`, the cubes instead rest in stacks on the ground, all asleep.
 inline Scene settling_pile(int n, int height, bool asleep, double jitter = 0.05) {
   Scene s;
-  s.pair_contacts = PairModel::kAabb;  // the GPU engine's model
+  s.pair_contacts = PairModel::kAabb;  // the model of gpu_bench's measurements (docs/GPU.md); tests may switch it
   s.name = asleep ? "pile_asleep" : "pile";
   s.frames = 600;
   s.effects.sdf = false;
