@@ -84,12 +84,6 @@ struct GpuWorld::Impl {
 };
 
 GpuWorld::GpuWorld(const Scene& scene, const GpuOptions& options) : impl_(std::make_unique<Impl>()) {
-  // The GPU engine implements the source's AABB pair model (eqs 38-43, 85);
-  // the oriented-box model (docs/SPEC.md 2.4) runs on the CPU engines.
-  if (scene.pair_contacts != PairModel::kAabb)
-    throw std::invalid_argument("scene '" + scene.name + "': the GPU engine runs the source's AABB pair model only; " +
-                                "the scene asks for \"pair_contacts\": \"oriented_box\" (docs/SPEC.md 2.4): set " +
-                                "\"pair_contacts\": \"aabb\" or run it on fixed, float, double or mp");
   const InitialState s = make_initial_state(scene);
   impl_->half = s.half;
   impl_->inert = s.inert;

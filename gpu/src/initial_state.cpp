@@ -16,6 +16,7 @@ InitialState make_initial_state(const Scene& scene) {
   s.n = static_cast<int>(scene.bodies.size());
   s.P = Params<float>::from(scene.constants);
   s.fx = scene.effects;
+  s.oriented = scene.pair_contacts == PairModel::kOrientedBox;
   s.ground_on = scene.effects.ground && scene.ground.present;
   s.ground_y = n(scene.ground.height);
   s.ground_e = n(scene.ground.material.restitution);

@@ -17,6 +17,7 @@ struct InitialState {
   int n = 0;
   Params<float> P{};
   Effects fx;
+  bool oriented = true;              // the oriented-box pair model (docs/SPEC.md 2.4); false: the source's AABB model
   bool ground_on = false;            // effect ground and a ground plane present
   float ground_y = 0, ground_e = 0, ground_mu = 0;
   std::vector<F4> pos, rot, aabb, half, inert, vel, ang;

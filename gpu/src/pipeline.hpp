@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "colouring.hpp"
+#include "oriented_stages.hpp"
 #include "pipeline_base.hpp"
 #include "stages.hpp"
 
@@ -87,6 +88,18 @@ class Pipeline final : public PipelineBase {
     sc_.large = large_.data();
     sc_.n_large = n_large_;
     sc_.relaxation = options.relaxation;
+    sc_.oriented = s.oriented;
+    oriented_ = s.oriented;
+    if (oriented_) {  // eqs 97, 107: every body's growth starts at half the tolerance; eq 108's records
+      up(grow_, std::vector<float>(n, sc_.half_tol));
+      for (auto* l : {&ready_, &sleep_sw_[0], &sleep_sw_[1], &wake_sw_[0], &wake_sw_[1], &rest_count_}) l->resize(n + 1);
+      be_.fill_int(rest_count_.data(), 0, n + 1);
+      rest_body_.resize(kMaxRests * n + 1);
+      rest_local_.resize(kMaxRests * n + 1);
+      rest_point_.resize(kMaxRests * n + 1);
+      p_world_.resize(n + 1);
+      p_pairs_.resize(n + 1);
+    }
     fx_ = s.fx;
     body_.pos = pos_.data(); body_.rot = rot_.data(); body_.aabb = aabb_.data(); body_.half = half_.data();
     body_.inert = inert_.data(); body_.vel = vel_[0].data(); body_.ang = ang_[0].data(); body_.flags = flags_.data();
@@ -272,6 +285,38 @@ class Pipeline final : public PipelineBase {
   Buf<int> immovable_;               // per slot: contacts with immovable things (ContactsK)
   Buf<int> scal_;  // [0]: woken count, [1]: error (4 i + code, or INT_MAX), [2]: longest neighbour list,
                    // [3]: bodies whose settled velocity is not final yet (settling batches)
+  // The oriented-box model (oriented_stages.hpp): per body its growth (eqs
+  // 97, 107) and eq 108's records; per entry the pair manifolds (double-
+  // buffered by frame parity, eq 96) and the eq 110 sweeps' positions; per
+  // slot the readiness and the sweeps of eq 109; per body the sweeps of eq 108.
+  bool oriented_ = false;
+  Buf<float> grow_;
+  Buf<PairManifold> man_[2];
+  Buf<F4> before_[2], p_world_, p_pairs_;
+  Buf<int> ready_, sleep_sw_[2], wake_sw_[2];
+  Buf<int> rest_count_, rest_body_;
+  Buf<F4> rest_local_, rest_point_;
+  RestArrays rests() {
+    return RestArrays{rest_count_.data(), rest_body_.data(), rest_local_.data(), rest_point_.data()};
+  }
+  // Runs sweep(in, out, changed) until a sweep changes nothing (batches of
+  // settle_batch, one synchronisation each; at most `limit` sweeps: the
+  // longest chain of a well-formed order is shorter); returns the buffer
+  // holding the result.
+  template <class Sweep>
+  int sweep_until_fixed(int limit, const Sweep& sweep) {
+    const int batch = std::max(1, opt_.settle_batch);
+    int cur = 0;
+    for (int done = 0;;) {
+      for (int k = 0; k < batch; ++k, ++done) {
+        const bool last = k + 1 == batch;
+        if (last) be_.fill_int(scal_.data() + 3, 0, 1);
+        sweep(cur, 1 - cur, last ? scal_.data() + 3 : nullptr);
+        cur = 1 - cur;
+      }
+      if (read_int(scal_.data() + 3) == 0 || done >= limit) return cur;
+    }
+  }
   bool frozen_dirty_ = true;
   bool coloured_ = false;  // this frame's body-body contacts are coloured
   int colours_ = 0;        // the coloured solver's colours (= colouring rounds) this frame
@@ -281,18 +326,41 @@ template <class B>
 void Pipeline<B>::step() {
   ++frame_;
   be_.begin_frame();
-  const int n_awake = n_awake_;
+  int n_awake = n_awake_;
   int* active = list_[cur_].data();
   const bool contacts = fx_.contacts && n_ >= 2;
 
   // 1: velocity integration.
   be_.mark(kStageIntegrate);
+  const int integrated = n_awake;
+  // 2a (oriented-box model, eq 108, after stage 1 in World<T>; it reads
+  // poses only): sleeping bodies whose support moved wake and join the awake
+  // list after the integrated bodies.
+  if (oriented_ && fx_.sleep && contacts && n_awake > 0 && n_ - n_static_ - n_awake > 0) {
+    be_.fill_int(wake_sw_[0].data(), 0, static_cast<std::size_t>(n_));
+    const int r = sweep_until_fixed(n_ + 2, [&](int in, int out, int* changed) {
+      be_.for_n(n_, SupportWakeK{body_, sc_, rests(), wake_sw_[in].data(), wake_sw_[out].data(), changed});
+    });
+    be_.fill_int(scal_.data(), 0, 1);
+    be_.for_n(n_, SupportWakeApplyK{body_, wake_sw_[r].data(), woken_.data(), scal_.data()});
+    const int n_woken = read_int(scal_.data());
+    if (n_woken > 0) {
+      be_.sort_ints(woken_.data(), woken_tmp_.data(), n_woken);
+      be_.for_n(n_woken, CopyIntsK{woken_.data(), active + n_awake});
+      n_awake += n_woken;
+      counters_.wakes += static_cast<std::uint64_t>(n_woken);
+      frozen_dirty_ = true;
+    }
+  }
   if (n_awake > 0 && (fx_.gravity || fx_.damping || contacts)) {
     awake_grid_.bounds.resize(static_cast<std::size_t>(n_awake));
-    be_.for_n(n_awake, IntegrateVelocityK{active, body_, sc_, contacts ? awake_grid_.bounds.data() : nullptr});
+    IntegrateVelocityK iv{active, body_, sc_, contacts ? awake_grid_.bounds.data() : nullptr};
+    iv.grow = oriented_ && contacts ? grow_.data() : nullptr;
+    iv.integrate_end = integrated;
+    be_.for_n(n_awake, iv);
   }
-  if (fx_.gravity) counters_.integrate_velocity += static_cast<std::uint64_t>(n_awake);
-  if (fx_.damping) counters_.damping += static_cast<std::uint64_t>(n_awake);
+  if (fx_.gravity) counters_.integrate_velocity += static_cast<std::uint64_t>(integrated);
+  if (fx_.damping) counters_.damping += static_cast<std::uint64_t>(integrated);
 
   // 2: grids. The awake grid each frame; the frozen grid (sleeping and small
   // static bodies, which do not move) only when that set has changed.
@@ -338,16 +406,21 @@ void Pipeline<B>::step() {
     work = WorkOrder{work_key_[0].data(), work_slot_[0].data()};
   }
   const ContactIndex index{slot_of_[par].data(), stamp_[par].data()};
+  float* grow = oriented_ ? grow_.data() : nullptr;
   auto gather = [&](bool first, bool awake_part, bool woken_part) {
     const NeighbourLists l = lists();
-    if (awake_part)
-      be_.for_n(n_awake, GatherK{active, 0, body_, sc_, awake_grid_.view(), frozen_grid_.view(), false, first, l,
-                                 scal_.data() + 2, wake_flag_.data(), woken_.data(), scal_.data(), work, index,
-                                 frame_, ctr_.data()});
-    if (woken_part)
-      be_.for_n(n_active - n_awake, GatherK{active + n_awake, n_awake, body_, sc_, awake_grid_.view(),
-                                            frozen_grid_.view(), true, first, l, scal_.data() + 2, wake_flag_.data(),
-                                            woken_.data(), scal_.data(), work, index, frame_, ctr_.data()});
+    if (awake_part) {
+      GatherK g{active, 0, body_, sc_, awake_grid_.view(), frozen_grid_.view(), false, first, l,
+                scal_.data() + 2, wake_flag_.data(), woken_.data(), scal_.data(), work, index, frame_, ctr_.data()};
+      g.grow = grow;
+      be_.for_n(n_awake, g);
+    }
+    if (woken_part) {
+      GatherK g{active + n_awake, n_awake, body_, sc_, awake_grid_.view(), frozen_grid_.view(), true, first, l,
+                scal_.data() + 2, wake_flag_.data(), woken_.data(), scal_.data(), work, index, frame_, ctr_.data()};
+      g.grow = grow;
+      be_.for_n(n_active - n_awake, g);
+    }
   };
   // The largest list found (when above the stride): the blocks grow and all
   // lists are gathered again.
@@ -366,7 +439,7 @@ void Pipeline<B>::step() {
     if (!fits(found[2])) gather(false, true, false);
     if (n_woken > 0) {
       be_.sort_ints(woken_.data(), woken_tmp_.data(), n_woken);
-      be_.for_n(n_woken, WakeApplyK{woken_.data(), body_, wake_flag_.data(), active, n_awake});
+      be_.for_n(n_woken, WakeApplyK{woken_.data(), body_, wake_flag_.data(), active, n_awake, grow, sc_.half_tol});
       n_active = n_awake + n_woken;
       gather(true, false, true);
       if (!fits(read_int(scal_.data() + 2))) gather(false, true, true);
@@ -383,22 +456,26 @@ void Pipeline<B>::step() {
   // contact prepared and the velocities warm-started into buffer 1.
   be_.mark(kStageContacts);
   const auto entries = static_cast<std::size_t>(n_active) * static_cast<std::size_t>(stride) + 1;
-  pair_[par].resize(entries);
+  pair_[par].resize(oriented_ ? 1 : entries);  // the oriented-box model keeps the state in the manifolds
+  if (oriented_) man_[par].resize(entries);
   const auto imm = static_cast<std::size_t>(n_active) * static_cast<std::size_t>(sc_.imm_stride()) + 1;
   imm_[par].resize(imm);
   ground_mask_[par].resize(static_cast<std::size_t>(n_active) + 1);
   immovable_.resize(static_cast<std::size_t>(n_active) + 1);
+  PairManifold* man = oriented_ ? man_[par].data() : nullptr;
   const SolverData d{active, body_, sc_, nl, dir_count_.data(), sdf_c0_.data(), sdf_c1_.data(),
-                     imm_[par].data(), pair_[par].data()};
+                     imm_[par].data(), pair_[par].data(), man};
   if (n_active > 0) {
     const PreviousContacts prev{frame_ - 1, slot_of_[pp].data(), stamp_[pp].data(),
                                 NeighbourLists{nbr_[pp].data(), count_[pp].data(), stride_[pp]}, imm_[pp].data(),
-                                ground_mask_[pp].data(), pair_[pp].data()};
+                                ground_mask_[pp].data(), pair_[pp].data(), oriented_ ? man_[pp].data() : nullptr};
     const EdgeArrays edges = prepare_edges(n_active, nl, par, contacts && n_awake > 0 &&
                                                                    opt_.pair_solver == GpuOptions::PairSolver::kColoured);
-    be_.for_n(n_active, ContactsK{d, prev, edges, sdf_c0_.data(), sdf_c1_.data(), support_idx_.data(), support_n_.data(),
-                                  dir_count_.data(), ground_mask_[par].data(), immovable_.data(), vel_[1].data(),
-                                  ang_[1].data(), ctr_.data()});
+    ContactsK ck{d, prev, edges, sdf_c0_.data(), sdf_c1_.data(), support_idx_.data(), support_n_.data(),
+                 dir_count_.data(), ground_mask_[par].data(), immovable_.data(), vel_[1].data(),
+                 ang_[1].data(), ctr_.data()};
+    ck.grow = grow;
+    be_.for_n(n_active, ck);
   }
 
   // 5: the solver's iterations alternate between buffers 1 and 2.
@@ -415,18 +492,32 @@ void Pipeline<B>::step() {
     if (opt_.pair_solver == GpuOptions::PairSolver::kColoured) {
       const int* colour = colour_edges(n_active, active, nl, par);
       for (int it = 0; it < iterations; ++it) {  // in place in buffer 1
-        be_.for_n(n_active, SolveK{d, order, colour, immovable_.data(), vel_[1].data(), ang_[1].data(),
-                                   vel_[1].data(), ang_[1].data(), ctr_.data()});
-        for (int c = 0; c < colours_; ++c)
+        // The oriented-box model alternates (7.2 step 5): odd passes visit
+        // the colours top-down, then the bodies' own manifolds in reverse.
+        const bool reverse = oriented_ && (it & 1) != 0;
+        SolveK sk{d, order, colour, immovable_.data(), vel_[1].data(), ang_[1].data(),
+                  vel_[1].data(), ang_[1].data(), ctr_.data()};
+        sk.reverse = reverse;
+        auto colour_pass = [&](int c) {
           be_.for_n(colour_offset_[c + 1] - colour_offset_[c],
                     SolveEdgeK{d, edges_.data() + colour_offset_[c], mate_.data(), vel_[1].data(), ang_[1].data(),
                                ctr_.data()});
+        };
+        if (!reverse) {
+          be_.for_n(n_active, sk);
+          for (int c = 0; c < colours_; ++c) colour_pass(c);
+        } else {
+          for (int c = colours_ - 1; c >= 0; --c) colour_pass(c);
+          be_.for_n(n_active, sk);
+        }
       }
     } else {
       for (int it = 0; it < iterations; ++it) {
         const int in = it % 2 == 0 ? 1 : 2, out = 3 - in;
-        be_.for_n(n_active, SolveK{d, order, nullptr, nullptr, vel_[in].data(), ang_[in].data(), vel_[out].data(),
-                                   ang_[out].data(), ctr_.data()});
+        SolveK sk{d, order, nullptr, nullptr, vel_[in].data(), ang_[in].data(), vel_[out].data(),
+                  ang_[out].data(), ctr_.data()};
+        sk.reverse = oriented_ && (it & 1) != 0;
+        be_.for_n(n_active, sk);
         last = out;
       }
     }
@@ -434,7 +525,7 @@ void Pipeline<B>::step() {
 
   // 6: settling sweeps but the last (which runs with the correction).
   be_.mark(kStageSettle);
-  SettleSweep sweep{support_idx_.data(), support_n_.data(), vel_[last].data(), vel_[last].data()};
+  SettleSweep sweep{support_idx_.data(), support_n_.data(), vel_[last].data(), vel_[last].data(), oriented_};
   if (fx_.settling && n_active > 0) {
     const int batch = std::max(1, opt_.settle_batch);
     for (int s = 0;;) {  // until every body's settled velocity is final
@@ -451,9 +542,26 @@ void Pipeline<B>::step() {
   // 6 (last sweep), 7-8: final velocities, position correction and integration.
   be_.mark(kStageCorrect);
   if (n_active > 0) {
-    be_.for_n(n_active, CorrectIntegrateK{active, body_, sc_, nl, sdf_c0_.data(), sdf_c1_.data(), imm_[par].data(),
-                                          pair_[par].data(), vel_[last].data(), ang_[last].data(), fx_.settling,
-                                          sweep, p_tmp_.data(), q_tmp_.data(), ctr_.data()});
+    CorrectIntegrateK ci{active, body_, sc_, nl, sdf_c0_.data(), sdf_c1_.data(), imm_[par].data(),
+                         pair_[par].data(), vel_[last].data(), ang_[last].data(), fx_.settling,
+                         sweep, p_tmp_.data(), q_tmp_.data(), ctr_.data()};
+    ci.p_world = oriented_ ? p_world_.data() : nullptr;
+    be_.for_n(n_active, ci);
+    if (oriented_) {  // eq 110: the pairs bottom-up (sweeps), then eqs 2, 7-10
+      const F4* corrected = p_world_.data();
+      if (contacts && n_awake > 0) {
+        for (auto& buf : before_) buf.resize(entries);
+        be_.fill_zero(before_[0].data(), entries);
+        const int r = sweep_until_fixed(static_cast<int>(entries) + 2, [&](int in, int out, int* changed) {
+          be_.for_n(n_active, PairCorrectK{active, body_, sc_, nl, man, slot_of_[par].data(), p_world_.data(),
+                                           before_[in].data(), before_[out].data(), p_pairs_.data(), changed});
+        });
+        (void)r;
+        corrected = p_pairs_.data();
+      }
+      be_.for_n(n_active, IntegrateK{active, body_, sc_, nl, contacts && n_awake > 0 ? man : nullptr, corrected,
+                                     p_tmp_.data(), q_tmp_.data(), ctr_.data()});
+    }
   }
   counters_.integrate_position += static_cast<std::uint64_t>(n_active);
 
@@ -463,9 +571,21 @@ void Pipeline<B>::step() {
   int new_awake = 0;
   if (n_active > 0) {
     be_.for_n(1, SetIntK{scal_.data() + 1, error});
-    be_.for_n(n_active, CommitSleepK{active, body_, sc_, p_tmp_.data(), q_tmp_.data(), support_idx_.data(),
-                                     support_n_.data(), frame_,
-                                     keep_.data(), scal_.data() + 1, ctr_.data()});
+    CommitSleepK cs{active, body_, sc_, p_tmp_.data(), q_tmp_.data(), support_idx_.data(),
+                    support_n_.data(), frame_, keep_.data(), scal_.data() + 1, ctr_.data()};
+    const bool eq109 = oriented_ && fx_.sleep;
+    cs.ready = eq109 ? ready_.data() : nullptr;
+    be_.for_n(n_active, cs);
+    if (eq109) {  // eq 109: the ready bodies fall asleep bottom-up (sweeps)
+      const PairManifold* pairs = contacts && n_awake > 0 ? man : nullptr;
+      be_.fill_int(sleep_sw_[0].data(), 0, static_cast<std::size_t>(n_active));
+      const int r = sweep_until_fixed(n_active + 2, [&](int in, int out, int* changed) {
+        be_.for_n(n_active, SleepSweepK{active, body_, sc_, nl, pairs, slot_of_[par].data(), ready_.data(),
+                                        sleep_sw_[in].data(), sleep_sw_[out].data(), changed});
+      });
+      be_.for_n(n_active, SleepApplyK{active, body_, sc_, nl, pairs, sleep_sw_[r].data(), rests(), grow_.data(),
+                                      frame_, keep_.data()});
+    }
     be_.exclusive_scan(keep_.data(), keep_scan_.data(), n_active);
     be_.for_n(n_active, ScatterK{active, keep_.data(), keep_scan_.data(), list_[1 - cur_].data()});
     int host[2] = {0, 0};

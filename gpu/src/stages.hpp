@@ -13,6 +13,7 @@
 #include "kernel_support.hpp"
 #include "lockstep/gpu/elements.hpp"
 #include "lockstep/gpu/soa.hpp"
+#include "lockstep/physics/box_box.hpp"
 
 namespace lockstep::gpu {
 
@@ -32,6 +33,7 @@ namespace lockstep::gpu {
 // so the result does not depend on the order of the reduction.
 struct Bounds {
   float amax = 0.0f;
+  float gmax = 0.0f;  // oriented-box model: the largest AABB growth of a member (eqs 97, 107); 0 otherwise
   float lo[3] = {3.0e38f, 3.0e38f, 3.0e38f};
   float hi[3] = {-3.0e38f, -3.0e38f, -3.0e38f};
 };
@@ -39,6 +41,7 @@ struct BoundsOp {
   LS_HD Bounds operator()(const Bounds& a, const Bounds& b) const {
     Bounds r;
     r.amax = Num<float>::max(a.amax, b.amax);
+    r.gmax = Num<float>::max(a.gmax, b.gmax);
     for (int k = 0; k < 3; ++k) {
       r.lo[k] = Num<float>::min(a.lo[k], b.lo[k]);
       r.hi[k] = Num<float>::max(a.hi[k], b.hi[k]);
@@ -124,7 +127,7 @@ LS_HD inline GridParams grid_params_for(const Bounds& b, float tol, long long de
   const float cell = Num<float>::max(2.0f * b.amax, 1.0f / 64.0f);
   GridParams g;
   g.inv_cell = 1.0f / cell;
-  g.reach = (b.amax + tol) * (1.0f + 1.0f / 1024.0f) + cell / 64.0f;
+  g.reach = (b.amax + b.gmax + tol) * (1.0f + 1.0f / 1024.0f) + cell / 64.0f;
   g.table = hash_table;
   if (!(b.lo[0] <= b.hi[0])) return g;  // no members
   long long cells = 1;
@@ -217,6 +220,7 @@ struct SceneConsts {
   const int* large = nullptr;        // large static bodies, ascending
   int n_large = 0;
   float relaxation = 1.0f;
+  bool oriented = false;  // the oriented-box pair model (docs/SPEC.md 2.4, eqs 100-110); false: the source's AABB model
   // Contacts with immovable things per active body: 8 ground corners (when
   // ground_on), then 9 samples per SDF volume.
   LS_HD int ground_slots() const { return ground_on ? 8 : 0; }
@@ -255,6 +259,65 @@ LS_HD inline void store_state(const ContactState<float>& c, F4& a, F4& b) {
 }
 
 // ---------------------------------------------------------------------------
+// The oriented-box pair model (docs/SPEC.md 2.4). Each neighbour-list entry
+// of a pair holds the pair's manifold (eqs 100-106) as World<T>'s narrowphase
+// computes it, body a the lower index (n from the higher towards the lower),
+// and its points' solver state; each body keeps its own copy (equal for two
+// active bodies: both compute it with the same arguments, and the coloured
+// solver writes both).
+struct alignas(32) PairManifold {
+  F4 n;                            // xyz: the normal (from the higher index towards the lower)
+  F4 pt[kBoxManifoldPoints];       // xyz: the point (m), w: its penetration (m; negative: a speculative gap)
+  int feature[kBoxManifoldPoints]; // eq 96's key
+  int count = 0;                   // points (0: the grown AABBs overlap but the boxes are apart)
+  int deepest = 0;                 // the point that carries the pair's correction (first on ties)
+  float depth = 0.0f;              // eq 110: the mean depth of the points
+  int unused = 0;
+  ContactRecord st[kBoxManifoldPoints];
+};
+
+// eq 97 and 107: the AABB growth of a body at the broadphase, half the
+// contact tolerance plus, for an awake body, its speculative reach.
+LS_HD inline float body_growth(const SceneConsts& sc, const Vec3<float>& v, const Vec3<float>& w, const Vec3<float>& h) {
+  return sc.half_tol + speculative_reach(v, w, h, sc.P.dt);  // eq 107
+}
+
+// World<T>'s pair test of the oriented-box model: the broadphase's grown
+// boxes (eqs 82-83, 97, 107) and the narrowphase's early-out (eqs 38-39 on
+// the grown boxes); body a is the lower index.
+LS_HD inline bool grown_overlap(const Vec3<float>& pa, const Vec3<float>& aa, float ga, const Vec3<float>& pb,
+                                const Vec3<float>& ab, float gb) {
+  for (int ax = 0; ax < 3; ++ax)
+    if (pa[ax] + (aa[ax] + ga) < pb[ax] - (ab[ax] + gb) || pb[ax] + (ab[ax] + gb) < pa[ax] - (aa[ax] + ga)) return false;
+  return aabb_overlap(pa, aa + Vec3<float>{ga, ga, ga}, pb, ab + Vec3<float>{gb, gb, gb}).hit;
+}
+
+// eqs 100-107: the manifold of bodies a < b (growths ga, gb), points up to
+// the contact tolerance plus both reaches apart.
+LS_HD inline BoxManifold<float> pair_manifold(const SceneConsts& sc, const Vec3<float>& pa, const Mat3<float>& Ra,
+                                              const Vec3<float>& ha, float ga, const Vec3<float>& pb,
+                                              const Mat3<float>& Rb, const Vec3<float>& hb, float gb) {
+  const float pair_tol = (ga - sc.half_tol) + (gb - sc.half_tol) + sc.P.contact_tolerance;
+  return box_box_manifold(pa, Ra, ha, pb, Rb, hb, pair_tol);
+}
+
+// Bit equality of two floats (NaN included): the fixed-point sweeps stop
+// when a sweep reproduces its input exactly.
+LS_HD inline bool same_bits(float x, float y) {
+#if defined(__CUDA_ARCH__)
+  return __float_as_uint(x) == __float_as_uint(y);
+#else
+  unsigned ux, uy;
+  __builtin_memcpy(&ux, &x, sizeof ux);
+  __builtin_memcpy(&uy, &y, sizeof uy);
+  return ux == uy;
+#endif
+}
+LS_HD inline bool same_bits(const F4& a, const F4& b) {
+  return same_bits(a.x, b.x) && same_bits(a.y, b.y) && same_bits(a.z, b.z) && same_bits(a.w, b.w);
+}
+
+// ---------------------------------------------------------------------------
 // Stage 1: velocity integration of the awake bodies; also gathers what the
 // awake grid needs of each (Bounds).
 struct IntegrateVelocityK {
@@ -262,13 +325,25 @@ struct IntegrateVelocityK {
   BodyArrays b;
   SceneConsts sc;
   Bounds* bounds;  // per slot, or null
+  float* grow = nullptr;  // oriented-box model: per body, its AABB growth this frame (eqs 97, 107); null: AABB model
+  int integrate_end = 0x7fffffff;  // slots from here on (woken by eq 108 after stage 1) are not integrated
   LS_HD void operator()(int k) const {
     const int i = list[k];
-    if (sc.gravity || sc.damping) {
+    if ((sc.gravity || sc.damping) && k < integrate_end) {
       Vec3<float> v = xyz(b.vel[i]), w = xyz(b.ang[i]);
       integrate_velocity(v, w, sc.gravity, sc.damping, sc.P);
       b.vel[i] = f4(v, 0.0f);
       b.ang[i] = f4(w, 0.0f);
+    }
+    if (grow != nullptr) {
+      const float g = body_growth(sc, xyz(b.vel[i]), xyz(b.ang[i]), xyz(b.half[i]));
+      grow[i] = g;
+      if (bounds != nullptr) {  // the grid's reach covers the grown boxes
+        Bounds bd = bounds_of(b.pos[i], b.aabb[i]);
+        bd.gmax = g;
+        bounds[k] = bd;
+      }
+      return;
     }
     if (bounds != nullptr) bounds[k] = bounds_of(b.pos[i], b.aabb[i]);
   }
@@ -395,6 +470,7 @@ struct GatherK {
   ContactIndex index;
   int frame;
   Counter* ctr;
+  const float* grow = nullptr;  // oriented-box model: per body, its AABB growth (eqs 97, 107); null: AABB model
   LS_HD void operator()(int k) const {
     const int i = ro(list + k);
     const int slot = slot0 + k;
@@ -404,28 +480,49 @@ struct GatherK {
     int* out = lists.nbr + slot * lists.stride;
     unsigned tested = 0, contacts = 0;
     int m = 0;
-    visit_candidates(awake_grid, i, p, a, tested, [&](int j, const Vec3<float>& pj, const Vec3<float>& aj) {
-      if (!canonical_pair(sc, i, p, a, j, pj, aj).hit) return;
+    const bool oriented = grow != nullptr;
+    const float gi = oriented ? ro(grow + i) : 0.0f;
+    const Vec3<float> reach = oriented ? a + Vec3<float>{gi, gi, gi} : a;  // the candidates of the grown box
+    // World<T>'s pair test: the AABBs grown by half the contact tolerance
+    // (eqs 38-39, 97), or, oriented-box model, by each body's growth (107).
+    auto touches = [&](int j, const Vec3<float>& pj, const Vec3<float>& aj) {
+      if (!oriented) return canonical_pair(sc, i, p, a, j, pj, aj).hit;
+      const float gj = ro(grow + j);
+      return i < j ? grown_overlap(p, a, gi, pj, aj, gj) : grown_overlap(pj, aj, gj, p, a, gi);
+    };
+    visit_candidates(awake_grid, i, p, reach, tested, [&](int j, const Vec3<float>& pj, const Vec3<float>& aj) {
+      if (!touches(j, pj, aj)) return;
       if (m < lists.stride) out[m] = j;
       ++m;
-      if (!woken_pass && i < j) ++contacts;
+      if (!woken_pass && i < j && !oriented) ++contacts;
     });
     if (!woken_pass) {
       auto other = [&](int j, const Vec3<float>& pj, const Vec3<float>& aj) {
-        const PairContact<float> c = canonical_pair(sc, i, p, a, j, pj, aj);
-        if (!c.hit) return;
+        if (!touches(j, pj, aj)) return;
         if (m < lists.stride) out[m] = j;
         ++m;
-        ++contacts;
+        if (!oriented) ++contacts;
         if (count_work && sc.sleep && (ro(b.flags + j) & kFlagAsleep) != 0) {
           const bool i_is_a = i < j;
           const Vec3<float> vi = xyz(ro(b.vel + i)), vj = xyz(ro(b.vel + j));
-          if (wake_test(i_is_a ? vi : vj, !i_is_a, i_is_a ? vj : vi, i_is_a, c.n, c.penetration, sc.P) &&
-              claim_flag(&wake_flag[j]))
-            woken[fetch_add(n_woken, 1)] = j;
+          const Vec3<float> va = i_is_a ? vi : vj, vb = i_is_a ? vj : vi;
+          bool wakes_j = false;
+          if (!oriented) {
+            const PairContact<float> c = canonical_pair(sc, i, p, a, j, pj, aj);
+            wakes_j = wake_test(va, !i_is_a, vb, i_is_a, c.n, c.penetration, sc.P);
+          } else {  // eq 81 on each point of the pair's manifold
+            const Mat3<float> Ri = rotation_matrix(quat(ro(b.rot + i))), Rj = rotation_matrix(quat(ro(b.rot + j)));
+            const Vec3<float> hi = xyz(ro(b.half + i)), hj = xyz(ro(b.half + j));
+            const float gj = ro(grow + j);
+            const BoxManifold<float> mf = i_is_a ? pair_manifold(sc, p, Ri, hi, gi, pj, Rj, hj, gj)
+                                                 : pair_manifold(sc, pj, Rj, hj, gj, p, Ri, hi, gi);
+            for (int q = 0; q < mf.count && !wakes_j; ++q)
+              wakes_j = wake_test(va, !i_is_a, vb, i_is_a, mf.n, mf.penetration[q], sc.P);
+          }
+          if (wakes_j && claim_flag(&wake_flag[j])) woken[fetch_add(n_woken, 1)] = j;
         }
       };
-      visit_candidates(frozen_grid, i, p, a, tested, other);
+      visit_candidates(frozen_grid, i, p, reach, tested, other);
       for (int t = 0; t < sc.n_large; ++t) {
         const int j = sc.large[t];
         ++tested;
@@ -470,21 +567,26 @@ struct WakeApplyK {
   int* wake_flag;
   int* active;
   int n_awake;
+  float* grow = nullptr;  // oriented-box model: a body woken here was asleep at the broadphase (growth half_tol)
+  float half_tol = 0.0f;
   LS_HD void operator()(int k) const {
     const int i = woken[k];
     b.flags[i] = static_cast<std::uint8_t>(b.flags[i] & ~kFlagAsleep);
     b.sleep_counter[i] = 0;
+    if (grow != nullptr) grow[i] = half_tol;
     wake_flag[i] = 0;
     active[n_awake + k] = i;
   }
 };
 
-// Which of the six axis directions a body-body contact normal (eqs 41-42,
-// +-1 on one axis) points along: 2 axis + (negative).
+// Which of the six axis directions a body-body contact normal points most
+// nearly along (its largest component, the first on ties; eqs 41-42's
+// normals are +-1 on one axis): 2 axis + (negative).
 LS_HD inline int direction_of(const Vec3<float>& n) {
-  for (int axis = 0; axis < 3; ++axis)
-    if (n[axis] != 0.0f) return 2 * axis + (n[axis] < 0.0f ? 1 : 0);
-  return 0;
+  int axis = 0;
+  for (int ax = 1; ax < 3; ++ax)
+    if (Num<float>::abs(n[ax]) > Num<float>::abs(n[axis])) axis = ax;
+  return 2 * axis + (n[axis] < 0.0f ? 1 : 0);
 }
 
 // Mass splitting of the Jacobi solver: a body's contacts with other active
@@ -539,6 +641,7 @@ struct SolverData {
   const F4* sdf_c1;
   ContactRecord* imm;   // immovable contacts' state, imm_stride() per slot
   ContactRecord* pair;  // body-body contacts' state, one per neighbour-list entry (each body keeps its own copy)
+  PairManifold* man = nullptr;  // oriented-box model: the pair's manifold and state, per entry (instead of `pair`)
 };
 
 // Last frame's contacts, for the warm start (eq 96): the accumulated normal
@@ -551,7 +654,10 @@ struct PreviousContacts {
   const ContactRecord* imm;
   const int* ground_mask;  // per slot: bit c set when ground corner c was a contact
   const ContactRecord* pair;
+  const PairManifold* man = nullptr;  // oriented-box model
   LS_HD bool had(int i) const { return ro(stamp + i) == frame; }
+  // The entry of pair (i, j) in j's previous list (j active last frame), or -1.
+  LS_HD int entry_of(int j, int i) const { return had(j) ? lists.find(ro(slot_of + j), i) : -1; }
   // The accumulated impulses of pair (i, j) from j's copy (j active last
   // frame); j_n = 0 when there is none.
   LS_HD F4 from(int j, int i) const {
@@ -595,6 +701,7 @@ struct ContactsK {
   F4* vout;
   F4* wout;
   Counter* ctr;
+  const float* grow = nullptr;  // oriented-box model: per body, its AABB growth (eqs 97, 107)
   LS_HD void operator()(int k) const {
     const BodyArrays& b = d.b;
     const SceneConsts& sc = d.sc;
@@ -664,14 +771,82 @@ struct ContactsK {
       }
     }
     Counter directions = 0;
-    unsigned immovable_bodies = 0;
+    unsigned immovable_bodies = 0, pair_points = 0;
     int q = had ? prev.lists.begin(prev_slot) : 0;  // walks the previous list
     const int q_end = had ? q + ro(prev.lists.count + prev_slot) : 0;
+    const float gi = sc.oriented ? ro(grow + i) : 0.0f;
     for (int t = beg; t < beg + m; ++t) {
       const int j = nbr[t];
       const F4 pj4 = ro(b.pos + j);
       const Vec3<float> pj = xyz(pj4);
       const bool lower = i < j;
+      if (sc.oriented) {
+        // eqs 100-107: the pair's manifold, as World<T>'s narrowphase (body a
+        // the lower index); every point is a contact (support, preparation,
+        // warm start by feature, in point order).
+        const Mat3<float> Rj = rotation_matrix(quat(ro(b.rot + j)));
+        const Vec3<float> hj = xyz(ro(b.half + j));
+        const float gj = ro(grow + j);
+        const BoxManifold<float> mf = lower ? pair_manifold(sc, p, R, h, gi, pj, Rj, hj, gj)
+                                            : pair_manifold(sc, pj, Rj, hj, gj, p, R, h, gi);
+        const bool j_awake = is_awake(ro(b.flags + j));
+        const Vec3<float> n_i = lower ? mf.n : -mf.n;  // towards body i
+        PairManifold& rec = d.man[t];
+        rec.count = mf.count;
+        rec.n = f4(mf.n, 0.0f);
+        int deepest = 0;
+        float sum{};
+        for (int c = 0; c < kBoxManifoldPoints; ++c) {
+          rec.pt[c] = c < mf.count ? f4(mf.point[c], mf.penetration[c]) : F4{};
+          rec.feature[c] = c < mf.count ? mf.feature[c] : 0;
+          if (c < mf.count) {
+            if (mf.penetration[c] > mf.penetration[deepest]) deepest = c;
+            sum += mf.penetration[c];
+          }
+        }
+        rec.deepest = deepest;
+        rec.depth = mf.count > 0 ? sum / Num<float>::from_int(mf.count) : 0.0f;  // eq 110
+        if (edges.mate != nullptr) init_edge(edges, d.lists, i, t, j, j_awake && mf.count > 0, p.y, pj.y);
+        if (mf.count == 0) continue;
+        if (!j_awake) ++immovable_bodies;
+        if (lower || !j_awake) pair_points += static_cast<unsigned>(mf.count);
+        const int shift = 8 * direction_of(n_i);
+        if (j_awake && ((directions >> shift) & 255u) < 255u) directions += Counter{1} << shift;
+        const BodyView<float> other0 = view_of(b, j, b.vel, b.ang);
+        const float e_o = ro(b.half + j).w, mu_o = ro(b.inert + j).w;
+        // Last frame's copy of the pair: the body's own (walking its previous
+        // list alongside) when it was active, else the other body's.
+        int prev_t = -1;
+        if (had) {
+          int mq = q < q_end ? ro(prev.lists.nbr + q) : 0;
+          while (q < q_end && mq < j) { ++q; mq = q < q_end ? ro(prev.lists.nbr + q) : 0; }
+          if (q < q_end && mq == j) prev_t = q;
+        } else {
+          prev_t = prev.entry_of(j, i);
+        }
+        const int prev_count = prev_t >= 0 ? ro(&prev.man[prev_t].count) : 0;
+        SolveCounts here;
+        for (int c = 0; c < mf.count; ++c) {
+          if (mf.penetration[c] > -slop && n_i.y >= min_up) add_support(j, n_i);
+          const Vec3<float> r1 = mf.point[c] - (lower ? p : pj), r2 = mf.point[c] - (lower ? pj : p);
+          ContactState<float> cs =
+              prepare_contact(pick(lower, self0, other0), r1, pick(lower, other0, self0), r2, mf.n,
+                              lower ? e_self : e_o, lower ? mu_self : mu_o, lower ? e_o : e_self,
+                              lower ? mu_o : mu_self, sc.restitution, sc.friction, sc.P, here);
+          float cached = 0.0f;  // eq 96: the same feature's impulse last frame
+          for (int u = 0; u < prev_count; ++u)
+            if (ro(&prev.man[prev_t].feature[u]) == mf.feature[c]) { cached = ro(&prev.man[prev_t].st[u].a).x; break; }
+          if (cached > 0.0f) {
+            BodyView<float> A = pick(lower, self, other0), B = pick(lower, other0, self);
+            warm_start_contact(A, r1, B, r2, mf.n, cs, cached);
+            self.v = pick(lower, A.v, B.v);
+            self.w = pick(lower, A.w, B.w);
+          }
+          store_state(cs, rec.st[c].a, rec.st[c].b);
+        }
+        if (lower || other0.inv_mass == 0.0f) counts.restitution_bounces += here.restitution_bounces;
+        continue;
+      }
       const PairContact<float> pc = canonical_pair(sc, i, p, a, j, pj, xyz(ro(b.aabb + j)));
       const Vec3<float> n_i = lower ? pc.n : -pc.n;  // towards body i
       const int shift = 8 * direction_of(n_i);
@@ -708,6 +883,7 @@ struct ContactsK {
     }
     dir_count[i] = directions;
     has_immovable[k] = ground_contacts + sdf_contacts + immovable_bodies > 0 ? 1 : 0;
+    if (pair_points > 0) add_counter(&ctr[kCBodyContacts], pair_points);
     support_idx[i] = support;
     support_n[i] = f4(support != kNoSupport ? normalize(support_sum) : Vec3<float>{}, 0.0f);
     vout[i] = f4(self.v, 0.0f);
@@ -740,6 +916,7 @@ struct SolveK {
   F4* vout;
   F4* wout;
   Counter* ctr;
+  bool reverse = false;  // oriented-box model, odd passes: the body's visits in reverse (7.2 step 5)
   LS_HD void operator()(int thread) const {
     const BodyArrays& b = d.b;
     const SceneConsts& sc = d.sc;
@@ -771,6 +948,96 @@ struct SolveK {
         d.imm[k * stride + base + e].a = F4{c.j_n, c.j_t.x, c.j_t.y, c.j_t.z};
       };
     };
+    if (sc.oriented) {
+      // The oriented-box model: the ground manifold, each SDF volume's, then
+      // the pairs with immovable bodies (and, Jacobi, with active ones) as
+      // manifolds (eq 99), in World<T>'s order; odd passes in reverse.
+      auto ground = [&] {
+        auto corner_point = [&](int c, Vec3<float>& r1, Vec3<float>& r2, Vec3<float>& n, float& penetration) {
+          r2 = Vec3<float>{};
+          Vec3<float> corner;
+          penetration = ground_corner_depth(p, R, h, c, sc.ground_y, corner);
+          r1 = corner - p;
+          n = up;
+          return penetration > -tol;
+        };
+        solve_manifold<8>(self, env, corner_point, loader(0), storer(0), sc.friction, sc.gravity, sc.P, counts);
+      };
+      auto volume = [&](int v) {
+        const int base = sc.ground_slots() + 9 * v;
+        auto sample = [&](int s, Vec3<float>& r1, Vec3<float>& r2, Vec3<float>& n, float& penetration) {
+          r2 = Vec3<float>{};
+          const int g = (k * sc.n_sdf + v) * 9 + s;
+          const F4 c1 = ro(d.sdf_c1 + g), c0 = ro(d.sdf_c0 + g);
+          r1 = xyz(c1) - p;
+          n = xyz(c0);
+          penetration = c0.w;
+          return c1.w != 0.0f;
+        };
+        solve_manifold<9>(self, env, sample, loader(base), storer(base), sc.friction, sc.gravity, sc.P, counts);
+      };
+      Vec3<float> dv{}, dw{};
+      auto pair = [&](int t) {
+        const int j = ro(d.lists.nbr + t);
+        if (coloured && ro(edge_colour + t) != kNoEdge) return;  // SolveEdgeK's
+        PairManifold& rec = d.man[t];
+        const int count = rec.count;
+        if (count == 0) return;
+        const Vec3<float> pj = xyz(ro(b.pos + j));
+        const bool lower = i < j;
+        const bool jacobi = !coloured && is_awake(ro(b.flags + j));
+        BodyView<float> me = self;
+        if (jacobi) { me.v = v0; me.w = w0; }
+        const BodyView<float> other = coloured ? immovable_view<float>() : view_of(b, j, vin, win);
+        const Vec3<float> n = xyz(rec.n);
+        const float split =
+            jacobi ? jacobi_split(ro(d.dir_count + i), ro(d.dir_count + j), lower ? n : -n, sc.relaxation) : 1.0f;
+        BodyView<float> A = pick(lower, me, other), B = pick(lower, other, me);
+        const Vec3<float> pa = lower ? p : pj, pb = lower ? pj : p;
+        auto point = [&](int c, Vec3<float>& r1, Vec3<float>& r2, Vec3<float>& nc, float& penetration) {
+          if (c >= count) return false;
+          const F4 pt = rec.pt[c];
+          r1 = xyz(pt) - pa;
+          r2 = xyz(pt) - pb;
+          nc = n;
+          penetration = pt.w;
+          return true;
+        };
+        auto load = [&](int c) { return load_state(rec.st[c].a, rec.st[c].b); };
+        auto store = [&](int c, const ContactState<float>& cs) { rec.st[c].a = F4{cs.j_n, cs.j_t.x, cs.j_t.y, cs.j_t.z}; };
+        SolveCounts here;
+        solve_manifold<kBoxManifoldPoints>(A, B, point, load, store, sc.friction, sc.gravity, split, sc.P, here);
+        const Vec3<float> mv = pick(lower, A.v, B.v), mw = pick(lower, A.w, B.w);
+        if (jacobi) {
+          dv += mv - v0;
+          dw += mw - w0;
+        } else {
+          self.v = mv;
+          self.w = mw;
+        }
+        if (lower || !jacobi) {
+          counts.solver_contacts += here.solver_contacts;
+          counts.normal_impulses += here.normal_impulses;
+          counts.friction_steps += here.friction_steps;
+        }
+      };
+      const int beg = d.lists.begin(k), end = d.lists.end(k);
+      if (!reverse) {
+        if (sc.ground_on) ground();
+        for (int v = 0; v < sc.n_sdf; ++v) volume(v);
+        for (int t = beg; t < end; ++t) pair(t);
+      } else {
+        for (int t = end - 1; t >= beg; --t) pair(t);
+        for (int v = sc.n_sdf - 1; v >= 0; --v) volume(v);
+        if (sc.ground_on) ground();
+      }
+      vout[i] = f4(coloured ? self.v : self.v + dv, 0.0f);  // (no + 0: keeps a -0 component)
+      wout[i] = f4(coloured ? self.w : self.w + dw, 0.0f);
+      add_counter(&ctr[kCSolverContacts], counts.solver_contacts);
+      add_counter(&ctr[kCNormalImpulses], counts.normal_impulses);
+      add_counter(&ctr[kCFrictionSteps], counts.friction_steps);
+      return;
+    }
     if (sc.ground_on) {
       auto corner_point = [&](int c, Vec3<float>& r1, Vec3<float>& r2, Vec3<float>& n, float& penetration) {
         r2 = Vec3<float>{};
@@ -863,6 +1130,41 @@ struct SolveEdgeK {
     const int i = ro(d.list + t / d.lists.stride), j = ro(d.lists.nbr + t);
     const F4 pi4 = ro(b.pos + i), pj4 = ro(b.pos + j);
     const Vec3<float> p = xyz(pi4), pj = xyz(pj4);
+    if (sc.oriented) {  // the pair's manifold (eq 99), i < j
+      PairManifold& rec = d.man[t];
+      PairManifold& twin = d.man[ro(mate + t)];
+      BodyView<float> A = dynamic_view(xyz(vel[i]), xyz(ang[i]), pi4.w, rotation_matrix(quat(ro(b.rot + i))),
+                                       xyz(ro(b.inert + i)));
+      BodyView<float> B = dynamic_view(xyz(vel[j]), xyz(ang[j]), pj4.w, rotation_matrix(quat(ro(b.rot + j))),
+                                       xyz(ro(b.inert + j)));
+      const int count = rec.count;
+      const Vec3<float> n = xyz(rec.n);
+      auto point = [&](int c, Vec3<float>& r1, Vec3<float>& r2, Vec3<float>& nc, float& penetration) {
+        if (c >= count) return false;
+        const F4 pt = rec.pt[c];
+        r1 = xyz(pt) - p;
+        r2 = xyz(pt) - pj;
+        nc = n;
+        penetration = pt.w;
+        return true;
+      };
+      auto load = [&](int c) { return load_state(rec.st[c].a, rec.st[c].b); };
+      auto store = [&](int c, const ContactState<float>& cs) {
+        const F4 state{cs.j_n, cs.j_t.x, cs.j_t.y, cs.j_t.z};
+        rec.st[c].a = state;
+        twin.st[c].a = state;
+      };
+      SolveCounts counts;
+      solve_manifold<kBoxManifoldPoints>(A, B, point, load, store, sc.friction, sc.gravity, sc.P, counts);
+      vel[i] = f4(A.v, 0.0f);
+      ang[i] = f4(A.w, 0.0f);
+      vel[j] = f4(B.v, 0.0f);
+      ang[j] = f4(B.w, 0.0f);
+      add_counter(&ctr[kCSolverContacts], counts.solver_contacts);
+      add_counter(&ctr[kCNormalImpulses], counts.normal_impulses);
+      add_counter(&ctr[kCFrictionSteps], counts.friction_steps);
+      return;
+    }
     const PairContact<float> pc = canonical_pair(sc, i, p, xyz(ro(b.aabb + i)), j, pj, xyz(ro(b.aabb + j)));  // i < j
     BodyView<float> A = dynamic_view(xyz(vel[i]), xyz(ang[i]), pi4.w, rotation_matrix(quat(ro(b.rot + i))),
                                      xyz(ro(b.inert + i)));
@@ -898,6 +1200,7 @@ struct SettleSweep {
   const F4* support_n;
   const F4* vpost;  // solver result
   const F4* sin;    // the previous sweep's (sweep 0: vpost)
+  bool relative = false;  // the oriented-box model: eq 77 relative to the support's velocity
   // Eqs 75, 77 on v (the solver's velocity of body i); returns |v| after eq 75
   // (what righting uses), or a negative value for a body with no support
   // (v unchanged). `final`: the result is World<T>'s (it read no support's
@@ -919,7 +1222,7 @@ struct SettleSweep {
         v_s = xyz(ro(vpost + s));
       }
     }
-    return settle_linear_velocity(v, v_s, xyz(ro(support_n + i)), P, false);  // eqs 75, 77 (AABB model)
+    return settle_linear_velocity(v, v_s, xyz(ro(support_n + i)), P, relative);  // eqs 75, 77
   }
 };
 
@@ -965,6 +1268,7 @@ struct CorrectIntegrateK {
   F4* p_out;
   F4* q_out;
   Counter* ctr;
+  F4* p_world = nullptr;  // oriented-box model: the position after the world's corrections, per slot (eq 110 goes on)
   LS_HD void operator()(int k) const {
     const int i = ro(list + k);
     const F4 pi4 = ro(b.pos + i);
@@ -977,8 +1281,12 @@ struct CorrectIntegrateK {
       bool final = true;
       const float speed = sweep.linear(b, i, sc.P, vf, final);  // eqs 75, 77
       if (speed >= 0.0f) {
-        wf = settle_angular_velocity(wf, rotation_matrix(q0), xyz(ro(sweep.support_n + i)), speed, true,
-                                     sc.P);  // eqs 64-74 (AABB model: regimes on every support)
+        // eqs 64-74: the AABB model damps by the regimes on every support; the
+        // oriented-box model on an immovable one only (a support body that is
+        // not awake, the ground, an SDF volume).
+        const int s = ro(sweep.support_idx + i);
+        const bool movable = sc.oriented && s >= 0 && is_awake(ro(b.flags + s));
+        wf = settle_angular_velocity(wf, rotation_matrix(q0), xyz(ro(sweep.support_n + i)), speed, !movable, sc.P);
         add_counter(&ctr[kCSettlingBodies], 1u);
       }
     }
@@ -988,7 +1296,7 @@ struct CorrectIntegrateK {
     const float slop = sc.P.slop, percent = sc.P.baumgarte, tol = sc.P.contact_tolerance;
     // eq 89's order: the body pairs first, then the ground and SDF contacts
     // with their penetration less what the pairs moved this body along n.
-    const int beg = lists.begin(k), end = lists.end(k);
+    const int beg = lists.begin(k), end = sc.oriented ? beg : lists.end(k);  // oriented: eq 110 (PairCorrectK)
     for (int t = beg; t < end; ++t) {
       const int j = ro(lists.nbr + t);
       const F4 pj4 = ro(b.pos + j);
@@ -1033,6 +1341,11 @@ struct CorrectIntegrateK {
       baumgarte_correction(p, dummy, xyz(c0), c0.w - dot(p - p0, xyz(c0)), inv_self, 0.0f, slop, percent);
       ++corrections;
     }
+    if (p_world != nullptr) {  // the pairs' corrections (eq 110) and the integration follow
+      p_world[k] = f4(p, inv_self);
+      add_counter(&ctr[kCCorrections], corrections);
+      return;
+    }
     Quat<float> q = q0;
     integrate_pose(p, q, vf, wf, sc.P);  // eqs 2, 7-10
     p_out[k] = f4(p, inv_self);
@@ -1060,6 +1373,7 @@ struct CommitSleepK {
   int* keep;
   int* error;
   Counter* ctr;
+  int* ready = nullptr;  // oriented-box model: per slot, 1 when its counter reached sleep_frames (eq 109 decides)
   LS_HD void operator()(int k) const {
     const int i = list[k];
     const F4 p4 = p_in[k];
@@ -1075,8 +1389,9 @@ struct CommitSleepK {
       int counter = b.sleep_counter[i];
       const bool supported = support_idx[i] != kNoSupport;
       const Vec3<float> up = supported ? xyz(support_n[i]) : Vec3<float>{0.0f, Num<float>::from_int(1), 0.0f};
-      asleep = update_sleep(v, w, counter, supported, true, R, up, length(xyz(b.half[i])), sc.P);
+      asleep = update_sleep(v, w, counter, supported, !sc.oriented, R, up, length(xyz(b.half[i])), sc.P);
       b.sleep_counter[i] = counter;
+      if (ready != nullptr) ready[k] = counter >= sc.P.sleep_frames ? 1 : 0;
       b.vel[i] = f4(v, 0.0f);
       b.ang[i] = f4(w, 0.0f);
       if (asleep) {

@@ -155,14 +155,18 @@ void World<T>::correct_positions() {
     Body<T>* B = c.b >= 0 ? &bodies_[static_cast<std::size_t>(c.b)] : nullptr;
     T inv_b = (B != nullptr && B->awake()) ? B->inv_mass : T{};
     if (inv_a == T{} && inv_b == T{}) return;
-    if (lower_fixed) {  // eq 110: n points from b to a, so a is the upper side when n.y > 0
-      if (c.n.y > T{} ? inv_a > T{} : inv_b > T{}) (c.n.y > T{} ? inv_b : inv_a) = T{};
+    if (B != nullptr && oriented_correction_) {  // eq 110 (physics/contact.hpp, shared with the GPU engine)
+      manifold_correction(A.p, corrected_from_[static_cast<std::size_t>(c.a)], B->p,
+                          corrected_from_[static_cast<std::size_t>(c.b)], c.n, c.correct_depth, inv_a, inv_b,
+                          lower_fixed, P_.slop, P_.baumgarte);
+      ++counters_.corrections;
+      check_faults(c.a, "position correction");
+      return;
     }
     Vec3<T>& pb = B != nullptr ? B->p : ground_p;
     Vec3<T> moved = A.p - corrected_from_[static_cast<std::size_t>(c.a)];
     if (B != nullptr) moved -= B->p - corrected_from_[static_cast<std::size_t>(c.b)];
-    const T pen = (B != nullptr && !oriented_correction_) ? c.penetration
-                                                            : (B != nullptr ? c.correct_depth : c.penetration) - dot(moved, c.n);
+    const T pen = B != nullptr ? c.penetration : c.penetration - dot(moved, c.n);  // pairs: the AABB model's eq 89
     baumgarte_correction(A.p, pb, c.n, pen, inv_a, inv_b, P_.slop, P_.baumgarte);  // eqs 63, 89
     ++counters_.corrections;
     check_faults(c.a, "position correction");

@@ -6,7 +6,10 @@
 //   gpu_bench [--sizes 10000,100000,1000000,10000000] [--cpu-sizes 10000]
 //             [--sleep-size 1000000] [--sleep-frames 1500] [--backend auto|host]
 //             [--json out.json] [--profile N] [--solver coloured|jacobi]
+//             [--model aabb|oriented_box]
 // --solver: GpuOptions::pair_solver of the GPU runs (default coloured).
+// --model: the pile's "pair_contacts" (default aabb, the model of the
+// measurements in docs/GPU.md; oriented_box is the engines' default).
 // --profile N: only runs the awake pile of N cubes for 41 frames and
 // captures frame 41 for `ncu --profile-from-start off` (docs/GPU.md).
 #include <algorithm>
@@ -32,13 +35,15 @@ constexpr double kJitter = 0.01;  // turn of each cube (about radians per axis)
 constexpr int kWarmFrames = 40;   // frames before timing: the columns have landed and are toppling
 constexpr int kTimedFrames = 20;  // frames timed by wall clock, then as many with stage timing
 
-// The GPU runs' options (--backend, --solver).
+// The GPU runs' options (--backend, --solver) and the pile's pair model (--model).
 lockstep::gpu::GpuOptions g_options;
+lockstep::PairModel g_model = lockstep::PairModel::kAabb;
 
 // The pile; `awake_only` turns sleep off so that every cube stays awake
 // (the awake measurements), `asleep` builds it resting and asleep.
 Scene gpu_test_pile(long n, bool asleep, bool awake_only = false) {
   Scene s = lockstep::gpu_test::settling_pile(static_cast<int>(n), kColumn, asleep, kJitter);
+  s.pair_contacts = g_model;
   if (awake_only) s.effects.sleep = false;
   return s;
 }
@@ -148,7 +153,7 @@ int main(int argc, char** argv) {
   std::vector<long> sizes{10000, 100000, 1000000, 10000000}, cpu_sizes{10000};
   long sleep_size = 1000000;
   int sleep_frames = 1500;
-  std::string json_path, backend_name = "auto", solver_name = "coloured";
+  std::string json_path, backend_name = "auto", solver_name = "coloured", model_name = "aabb";
   long profile = 0;
   for (int a = 1; a + 1 < argc; a += 2) {
     const std::string k = argv[a], v = argv[a + 1];
@@ -160,12 +165,18 @@ int main(int argc, char** argv) {
     else if (k == "--backend") backend_name = v;
     else if (k == "--profile") profile = std::atol(v.c_str());
     else if (k == "--solver") solver_name = v;
+    else if (k == "--model") model_name = v;
     else { std::fprintf(stderr, "gpu_bench: unknown option %s\n", k.c_str()); return 2; }
   }
   if (solver_name != "coloured" && solver_name != "jacobi") {
     std::fprintf(stderr, "gpu_bench: --solver %s: expected coloured or jacobi\n", solver_name.c_str());
     return 2;
   }
+  if (model_name != "aabb" && model_name != "oriented_box") {
+    std::fprintf(stderr, "gpu_bench: --model %s: expected aabb or oriented_box\n", model_name.c_str());
+    return 2;
+  }
+  g_model = model_name == "aabb" ? lockstep::PairModel::kAabb : lockstep::PairModel::kOrientedBox;
   g_options.backend = backend_name == "host" ? lockstep::gpu::Backend::kHost : lockstep::gpu::Backend::kAuto;
   g_options.pair_solver = solver_name == "jacobi" ? lockstep::gpu::GpuOptions::PairSolver::kJacobi
                                                   : lockstep::gpu::GpuOptions::PairSolver::kColoured;
@@ -180,9 +191,9 @@ int main(int argc, char** argv) {
   }
   const lockstep::gpu::DeviceInfo dev = lockstep::gpu::device_info();
   const double copy_gbs = lockstep::gpu::measure_copy_bandwidth(std::size_t{1} << 30, 20);
-  std::printf("device: %s (%d SMs, %.1f GiB); copy bandwidth %.1f GB/s (read + write); pair solver %s\n",
+  std::printf("device: %s (%d SMs, %.1f GiB); copy bandwidth %.1f GB/s (read + write); pair solver %s, pair model %s\n",
               dev.name.empty() ? "none (host build)" : dev.name.c_str(), dev.multiprocessors, dev.memory_gib, copy_gbs,
-              solver_name.c_str());
+              solver_name.c_str(), model_name.c_str());
   std::printf("scene: settling pile, columns of %d unit cubes 0.2 m apart, turned by up to %.2f; awake: sleep off,"
               " timed frames %d..%d; asleep: built resting and asleep\n",
               kColumn, kJitter, kWarmFrames + 1, kWarmFrames + kTimedFrames);
@@ -233,7 +244,7 @@ int main(int argc, char** argv) {
   if (!json_path.empty()) {
     std::ofstream out(json_path);
     out << "{\"device\":\"" << dev.name << "\",\"multiprocessors\":" << dev.multiprocessors
-        << ",\"copy_bandwidth_gbs\":" << copy_gbs << ",\"pair_solver\":\"" << solver_name << "\"" << ",\"column\":" << kColumn << ",\"jitter\":" << kJitter << ",\"warm_frames\":" << kWarmFrames
+        << ",\"copy_bandwidth_gbs\":" << copy_gbs << ",\"pair_solver\":\"" << solver_name << "\"" << ",\"pair_contacts\":\"" << model_name << "\"" << ",\"column\":" << kColumn << ",\"jitter\":" << kJitter << ",\"warm_frames\":" << kWarmFrames
         << ",\"timed_frames\":" << kTimedFrames << ",\"rows\":[";
     for (std::size_t k = 0; k < rows.size(); ++k) out << (k ? ",\n" : "\n") << rows[k];
     out << "],\"settling_run\":[";

@@ -42,8 +42,8 @@ namespace {
 using namespace lockstep;
 using namespace lockstep::compare;
 
-// double, fixed and, where it runs the scene's pair model (engine_limitation),
-// gpu.
+// double, fixed and, where it is built, gpu (both pair models;
+// engine_names_for leaves out an engine with a limitation, none today).
 std::vector<std::string> engines_under_test(const Scene& scene) {
   std::vector<std::string> e{"double", "fixed"};
   for (const std::string& n : engine_names_for(scene))

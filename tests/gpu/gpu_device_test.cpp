@@ -36,13 +36,15 @@ TEST(GpuDevice, RunsOnTheDevice) {
 }
 
 // Built with --fmad=false, the device rounds every operation as the host
-// build does, and the schedule is the same: identical bits every frame.
+// build does, and the schedule is the same: identical bits every frame, on
+// both pair models.
 TEST(GpuDevice, MatchesHostBuildBitForBit) {
   LOCKSTEP_REQUIRE_DEVICE();
+  for (const PairModel model : gpu_test::kBothModels)
   for (const auto& [name, frames] : {std::pair<const char*, int>{"drop", 300}, {"stack5", 300}, {"pyramid", 300},
                                      {"pile1000", 300}, {"bowl", 400}, {"terrain", 400}}) {
-    SCOPED_TRACE(name);
-    const Scene s = gpu_test::scene(name);
+    SCOPED_TRACE(std::string(name) + " " + gpu_test::model_name(model));
+    const Scene s = gpu_test::scene(name, model);
     GpuWorld d(s, device_options()), h(s, gpu_test::host_options());
     for (int f = 1; f <= frames; ++f) {
       d.step();
@@ -63,9 +65,10 @@ TEST(GpuDevice, MatchesHostBuildBitForBit) {
 // the slots) gives the host build's bits in slot order.
 TEST(GpuDevice, WorkOrderMatchesHostBuild) {
   LOCKSTEP_REQUIRE_DEVICE();
+  for (const PairModel model : gpu_test::kBothModels)
   for (const auto& [name, frames] : {std::pair<const char*, int>{"pile1000", 200}, {"bowl", 200}}) {
-    SCOPED_TRACE(name);
-    const Scene s = gpu_test::scene(name);
+    SCOPED_TRACE(std::string(name) + " " + gpu_test::model_name(model));
+    const Scene s = gpu_test::scene(name, model);
     gpu::GpuOptions ordered = device_options(), unordered = gpu_test::host_options();
     ordered.work_order_min = 1;
     unordered.work_order_min = 1 << 30;
@@ -83,16 +86,20 @@ TEST(GpuDevice, WorkOrderMatchesHostBuild) {
 // atomics only where their order cannot matter).
 TEST(GpuDevice, RunToRunDeterministic) {
   LOCKSTEP_REQUIRE_DEVICE();
-  const Scene s = gpu_test::settling_pile(50000, 10, false);
-  GpuWorld a(s, device_options()), b(s, device_options());
-  for (int f = 1; f <= 240; ++f) {
-    a.step();
-    b.step();
-    if (f % 40 == 0) {
-      ASSERT_EQ(a.state_hash(), b.state_hash()) << "frame " << f;
+  for (const PairModel model : gpu_test::kBothModels) {
+    SCOPED_TRACE(gpu_test::model_name(model));
+    Scene s = gpu_test::settling_pile(50000, 10, false);
+    s.pair_contacts = model;
+    GpuWorld a(s, device_options()), b(s, device_options());
+    for (int f = 1; f <= 240; ++f) {
+      a.step();
+      b.step();
+      if (f % 40 == 0) {
+        ASSERT_EQ(a.state_hash(), b.state_hash()) << "frame " << f;
+      }
     }
+    EXPECT_EQ(a.counters().normal_impulses, b.counters().normal_impulses);
   }
-  EXPECT_EQ(a.counters().normal_impulses, b.counters().normal_impulses);
 }
 
 // Formula cases: the per-equation functions the kernels call, on random

@@ -40,9 +40,10 @@ SideBySide expect_world_float_bits(const Scene& s) {
 // every frame of these single-body scenes (ground contacts, warm start,
 // speculative contacts, settling, sleep) is World<float>'s, bit for bit.
 TEST(GpuHost, SingleBodyScenesMatchWorldFloatBitForBit) {
+  for (const PairModel model : gpu_test::kBothModels)
   for (const char* name : {"drop", "bounce", "slide", "tip_edge", "tip_corner"}) {
-    SCOPED_TRACE(name);
-    const SideBySide r = expect_world_float_bits(scene(name));
+    SCOPED_TRACE(std::string(name) + " " + gpu_test::model_name(model));
+    const SideBySide r = expect_world_float_bits(scene(name, model));
     const StageCounters &a = r.gpu, &b = r.world;
     EXPECT_EQ(a.ground_contacts, b.ground_contacts);
     EXPECT_EQ(a.solver_contacts, b.solver_contacts);
@@ -63,9 +64,11 @@ TEST(GpuHost, SingleBodyScenesMatchWorldFloatBitForBit) {
 // the resting tower's top cube by centimetres; the Jacobi solver parts from
 // World on the dropped tower and the heavy cube.
 TEST(GpuHost, StacksMatchWorldFloatBitForBit) {
-  auto tower = [](int n, double gap) {
+  for (const PairModel model : gpu_test::kBothModels) {
+  SCOPED_TRACE(gpu_test::model_name(model));
+  auto tower = [model](int n, double gap) {
     Scene s;
-    s.pair_contacts = PairModel::kAabb;  // the GPU engine's model
+    s.pair_contacts = model;
     s.name = "tower" + std::to_string(n);
     s.frames = 300;
     s.effects.sdf = false;
@@ -77,7 +80,7 @@ TEST(GpuHost, StacksMatchWorldFloatBitForBit) {
     return s;
   };
   Scene heavy_on_light;
-  heavy_on_light.pair_contacts = PairModel::kAabb;  // the GPU engine's model
+  heavy_on_light.pair_contacts = model;
   heavy_on_light.name = "heavy_on_light";
   heavy_on_light.frames = 300;
   heavy_on_light.effects.sdf = false;
@@ -91,12 +94,15 @@ TEST(GpuHost, StacksMatchWorldFloatBitForBit) {
   heavy.mass = 1.3;
   heavy.position = {-0.125, 0.69, -0.125};
   heavy_on_light.bodies = {light, heavy};
-  for (const Scene& s : {tower(20, 0.0), tower(10, 0.1), scene("stack5"), heavy_on_light}) {
+  for (const Scene& s : {tower(20, 0.0), tower(10, 0.1), scene("stack5", model), heavy_on_light}) {
     SCOPED_TRACE(s.name);
     const SideBySide r = expect_world_float_bits(s);
     EXPECT_EQ(r.gpu.normal_impulses, r.world.normal_impulses);
     EXPECT_EQ(r.gpu.settling_bodies, r.world.settling_bodies);
+    EXPECT_EQ(r.gpu.body_contacts, r.world.body_contacts);
+    EXPECT_EQ(r.gpu.wakes, r.world.wakes);
     EXPECT_EQ(r.gpu_awake, 0);
+  }
   }
 }
 
@@ -108,9 +114,10 @@ TEST(GpuHost, StacksMatchWorldFloatBitForBit) {
 TEST(GpuHost, ScenesAgreeWithFixedEngine) {
   constexpr double kPosition = 0.05;
   constexpr int kSleepFrames = 10;
+  for (const PairModel model : gpu_test::kBothModels)
   for (const char* name : {"drop", "bounce", "stack5", "tip_edge", "pyramid", "slide"}) {
-    SCOPED_TRACE(name);
-    const Scene s = scene(name);
+    SCOPED_TRACE(std::string(name) + " " + gpu_test::model_name(model));
+    const Scene s = scene(name, model);
     auto g = make_gpu_engine(s);
     World<float> flt(s);
     World<Q16> fix(s);
@@ -144,10 +151,11 @@ gpu::GpuOptions host_options(gpu::GpuOptions::PairSolver solver) {
 // Two runs of the same scene give the same bits every frame (piles with
 // body-body contacts, wakes and sleep; the SDF bowl), with either solver.
 TEST(GpuHost, RunToRunDeterministic) {
+  for (const PairModel model : gpu_test::kBothModels)
   for (const auto solver : kSolvers)
     for (const auto& [name, frames] : {std::pair<const char*, int>{"pile1000", 80}, {"bowl", 300}, {"pyramid", 120}}) {
-      SCOPED_TRACE(name);
-      const Scene s = scene(name);
+      SCOPED_TRACE(std::string(name) + " " + gpu_test::model_name(model));
+      const Scene s = scene(name, model);
       GpuWorld a(s, host_options(solver)), b(s, host_options(solver));
       EXPECT_EQ(gpu_test::hashes(a, frames), gpu_test::hashes(b, frames));
     }
@@ -169,10 +177,11 @@ TEST(GpuHost, PairSolverOptionChangesTheSchedule) {
 // The solver's threads in an order of their work (GpuOptions::
 // work_order_min) compute the same bits as in slot order, with either solver.
 TEST(GpuHost, WorkOrderDoesNotChangeResults) {
+  for (const PairModel model : gpu_test::kBothModels)
   for (const auto solver : kSolvers)
   for (const auto& [name, frames] : {std::pair<const char*, int>{"pile1000", 80}, {"bowl", 150}}) {
-    SCOPED_TRACE(name);
-    const Scene s = scene(name);
+    SCOPED_TRACE(std::string(name) + " " + gpu_test::model_name(model));
+    const Scene s = scene(name, model);
     gpu::GpuOptions ordered = host_options(solver), unordered = host_options(solver);
     ordered.work_order_min = 1;
     unordered.work_order_min = 1 << 30;
@@ -238,7 +247,10 @@ TEST(GpuHost, EffectsNotCalledForDoNotRun) {
 // frame integrates, grids, tests and solves nothing; a pile built asleep
 // costs nothing from the first frame.
 TEST(GpuHost, SleepingPileIsCheap) {
-  const Scene pile = gpu_test::settling_pile(48, 3, false, 0.0);  // columns that land as stacks
+  for (const PairModel model : gpu_test::kBothModels) {
+  SCOPED_TRACE(gpu_test::model_name(model));
+  Scene pile = gpu_test::settling_pile(48, 3, false, 0.0);  // columns that land as stacks
+  pile.pair_contacts = model;
   GpuWorld g(pile, host_options());
   int frame = 0;
   while (g.awake_count() > 0 && frame < 1500) { g.step(); ++frame; }
@@ -254,34 +266,82 @@ TEST(GpuHost, SleepingPileIsCheap) {
   EXPECT_EQ(after.solver_contacts, before.solver_contacts);
   EXPECT_EQ(after.sleep_updates, before.sleep_updates);
 
-  GpuWorld asleep(gpu_test::settling_pile(1000, 4, true), host_options());
+  Scene built_asleep = gpu_test::settling_pile(1000, 4, true);
+  built_asleep.pair_contacts = model;
+  GpuWorld asleep(built_asleep, host_options());
   EXPECT_EQ(asleep.awake_count(), 0);
   for (int f = 0; f < 20; ++f) asleep.step();
   const StageCounters c = asleep.counters();
-  EXPECT_EQ(c.integrate_position + c.pairs_tested + c.solver_contacts + c.broadphase_bodies, 0u);
+  EXPECT_EQ(c.integrate_position + c.pairs_tested + c.solver_contacts + c.broadphase_bodies + c.wakes, 0u);
+  }
 }
 
 // A cube dropped onto a sleeping stack wakes what it hits (eq 81), and the
 // woken bodies move again.
 TEST(GpuHost, DroppedCubeWakesSleepingStack) {
-  Scene s = gpu_test::settling_pile(3, 3, true);
-  BodyDesc drop;
-  drop.position = {0.0, 6.0, 0.0};
-  drop.velocity = {0.0, -4.0, 0.0};
-  s.bodies.push_back(drop);
+  for (const PairModel model : gpu_test::kBothModels) {
+    SCOPED_TRACE(gpu_test::model_name(model));
+    Scene s = gpu_test::settling_pile(3, 3, true);
+    s.pair_contacts = model;
+    BodyDesc drop;
+    drop.position = {0.0, 6.0, 0.0};
+    drop.velocity = {0.0, -4.0, 0.0};
+    s.bodies.push_back(drop);
+    GpuWorld g(s, host_options());
+    World<float> w(s);
+    for (int f = 0; f < 40; ++f) { g.step(); w.step(); }
+    EXPECT_GT(g.counters().wakes, 0u);
+    EXPECT_EQ(g.counters().wakes, w.counters().wakes);
+    EXPECT_FALSE(g.body(2).asleep);
+  }
+}
+
+// Eq 108 (oriented-box model): a two-cube stack falls asleep (eq 109, bottom
+// first, the top recording what it rests on); a frictionless slab sliding
+// along the ground at 2 m/s strikes the bottom cube (eq 81 wakes it) and
+// pushes it sideways; the top cube, whose contact with it closes at no
+// speed, wakes because its support point moved (without eq 108 on the GPU
+// it stays asleep), on World<float>'s frame, with World's count of wakes.
+TEST(GpuHost, MovedSupportWakesTheSleeperAbove) {
+  Scene s;
+  s.name = "pulled_support";
+  s.frames = 600;
+  s.effects.sdf = false;
+  for (int k = 0; k < 2; ++k) {
+    BodyDesc c;
+    c.position = {0.0, 0.5 + k, 0.0};
+    s.bodies.push_back(c);
+  }
+  BodyDesc puck;
+  puck.half_extents = {0.5, 0.25, 0.5};
+  puck.position = {-12.0, 0.25, 0.0};
+  puck.velocity = {2.0, 0.0, 0.0};
+  puck.material.friction = 0.0;
+  s.bodies.push_back(puck);
   GpuWorld g(s, host_options());
   World<float> w(s);
-  for (int f = 0; f < 40; ++f) { g.step(); w.step(); }
-  EXPECT_GT(g.counters().wakes, 0u);
+  int both_asleep = -1, top_woke = -1, world_top_woke = -1;
+  for (int f = 1; f <= 600; ++f) {
+    g.step();
+    w.step();
+    if (both_asleep < 0 && g.body(0).asleep && g.body(1).asleep) both_asleep = f;
+    if (both_asleep > 0 && top_woke < 0 && !g.body(1).asleep) top_woke = f;
+    if (both_asleep > 0 && world_top_woke < 0 && !w.body(1).asleep) world_top_woke = f;
+  }
+  ASSERT_GT(both_asleep, 0) << "the stack never fell asleep";
+  ASSERT_GT(top_woke, both_asleep) << "the top cube never woke";
+  EXPECT_EQ(top_woke, world_top_woke);
+  EXPECT_GE(g.counters().wakes, 2u);
   EXPECT_EQ(g.counters().wakes, w.counters().wakes);
-  EXPECT_FALSE(g.body(2).asleep);
 }
 
 // A body touching more bodies than a neighbour-list block holds (16): the
 // blocks grow and the list is gathered again, complete. Frame 1 starts from
 // the scene, so its contacts are World<float>'s exactly.
 TEST(GpuHost, LongNeighbourListsAreComplete) {
-  Scene s = scene("drop");
+  for (const PairModel model : gpu_test::kBothModels) {
+  SCOPED_TRACE(gpu_test::model_name(model));
+  Scene s = scene("drop", model);
   s.bodies.clear();
   BodyDesc big;
   big.half_extents = {2.0, 2.0, 2.0};
@@ -303,13 +363,16 @@ TEST(GpuHost, LongNeighbourListsAreComplete) {
   EXPECT_GE(g.counters().body_contacts, 36u);
   for (int f = 0; f < 200; ++f) g.step();
   for (int i = 1; i < g.body_count(); ++i) EXPECT_NEAR(g.body(i).p[1], 4.25, 0.02) << "cube " << i;
+  }
 }
 
 // A scene whose bodies are far apart (a sparse box of cells) files them in a
 // hashed grid instead of the dense one; the physics does not change: a
 // pyramid with a far copy moves bit for bit as the pyramid alone.
 TEST(GpuHost, GridKindDoesNotChangeResults) {
-  const Scene alone = scene("pyramid");
+  for (const PairModel model : gpu_test::kBothModels) {
+  SCOPED_TRACE(gpu_test::model_name(model));
+  const Scene alone = scene("pyramid", model);
   Scene pair = alone;
   for (const BodyDesc& b : alone.bodies) {
     BodyDesc far = b;
@@ -326,12 +389,15 @@ TEST(GpuHost, GridKindDoesNotChangeResults) {
       ASSERT_EQ(std::memcmp(x.v, y.v, sizeof x.v), 0) << "frame " << f << " body " << i;
     }
   }
+  }
 }
 
 // A large static box (a floor) is tested by every awake body directly, not
 // filed in the grid: cubes dropped on it come to rest on its top.
 TEST(GpuHost, CubesRestOnALargeStaticBox) {
-  Scene s = scene("drop");
+  for (const PairModel model : gpu_test::kBothModels) {
+  SCOPED_TRACE(gpu_test::model_name(model));
+  Scene s = scene("drop", model);
   s.bodies.clear();
   s.effects.ground = false;
   BodyDesc floor;
@@ -350,6 +416,7 @@ TEST(GpuHost, CubesRestOnALargeStaticBox) {
   for (int i = 1; i < g.body_count(); ++i) {
     EXPECT_NEAR(g.body(i).p[1], 0.5, 0.01) << "cube " << i;
     EXPECT_EQ(g.body(i).asleep, gpu_test::snapshot(w, i).asleep) << "cube " << i;
+  }
   }
 }
 

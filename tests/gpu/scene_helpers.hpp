@@ -14,14 +14,19 @@
 
 namespace lockstep::gpu_test {
 
-// A built-in scene with the source's AABB pair model, the model the GPU
-// engine implements (engine_limitation; docs/GPU.md "Pair models").
-inline Scene scene(const std::string& name) {
+// A built-in scene with the given pair model (docs/GPU.md "Pair models":
+// the GPU engine runs both).
+inline Scene scene(const std::string& name, PairModel model) {
   auto s = builtin_scene(name);
   if (!s) throw std::runtime_error("no built-in scene " + name);
-  s->pair_contacts = PairModel::kAabb;
+  s->pair_contacts = model;
   return *s;
 }
+// The source's AABB pair model.
+inline Scene scene(const std::string& name) { return scene(name, PairModel::kAabb); }
+
+inline const char* model_name(PairModel m) { return m == PairModel::kAabb ? "aabb" : "oriented_box"; }
+inline constexpr PairModel kBothModels[] = {PairModel::kOrientedBox, PairModel::kAabb};
 
 inline gpu::GpuOptions host_options() {
   gpu::GpuOptions o;
@@ -69,7 +74,7 @@ inline double distance(const BodySnapshot& a, const BodySnapshot& b) {
 // `asleep`, the cubes instead rest in stacks on the ground, all asleep.
 inline Scene settling_pile(int n, int height, bool asleep, double jitter = 0.05) {
   Scene s;
-  s.pair_contacts = PairModel::kAabb;  // the GPU engine's model
+  s.pair_contacts = PairModel::kAabb;  // the model of gpu_bench's measurements (docs/GPU.md); tests may switch it
   s.name = asleep ? "pile_asleep" : "pile";
   s.frames = 600;
   s.effects.sdf = false;

@@ -36,17 +36,9 @@ struct MonitoredRun {
   std::unique_ptr<EngineRun> run;
   std::unique_ptr<Monitor> monitor;
   std::string error;  // the RunError that stopped it ("" if none): "frame F, body B, quantity Q: what"
-  std::string model_note;  // "" unless the scene's pair model was changed for this engine
 
-  // An engine that cannot run the scene's pair model (the GPU engine
-  // implements the source's AABB model only, engine_limitation) runs the
-  // scene with "pair_contacts": "aabb", its own model, and says so in
-  // `model_note`.
+  // Every engine runs the case's scene as it is, its pair model included.
   MonitoredRun(Scene s, const std::string& engine) : scene(std::move(s)) {
-    if (!engine_limitation(engine, scene).empty()) {
-      scene.pair_contacts = PairModel::kAabb;
-      model_note = engine + " runs the scene with \"pair_contacts\": \"aabb\" (its own model)";
-    }
     run = make_engine(engine, scene);
     monitor = std::make_unique<Monitor>(scene, *run);
   }

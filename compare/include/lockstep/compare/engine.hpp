@@ -74,10 +74,10 @@ std::vector<std::string> engine_names();
 std::vector<std::string> engine_variants();
 // engine_names() then engine_variants(): every name make_engine accepts.
 std::vector<std::string> accepted_engine_names();
-// Why engine `name` cannot run `scene` ("" when it can): the GPU engine
-// implements the source's "pair_contacts": "aabb" model only; the
-// oriented-box model (docs/SPEC.md 2.4) runs on the CPU engines (docs/GPU.md
-// "Pair models").
+// Why engine `name` cannot run `scene` ("" when it can). Every engine runs
+// every scene today, both pair models included (docs/GPU.md "Pair models");
+// the hook stays for an engine that implements part of the spec: make_engine
+// refuses with its reason and engine_names_for leaves it out.
 std::string engine_limitation(std::string_view name, const Scene& scene);
 // engine_names() less those with a limitation for `scene`.
 std::vector<std::string> engine_names_for(const Scene& scene);

@@ -153,6 +153,24 @@ LS_HD void baumgarte_correction(Vec3<T>& pa, Vec3<T>& pb, const Vec3<T>& n, cons
   pb -= n * (c * (inv_mass_b / total));
 }
 
+// eq 110 for one box-box pair of the oriented-box model: its correction by
+// `depth` (the mean depth of its points) less what this stage has already
+// moved the two sides apart along n (pa0, pb0: their positions before the
+// stage), by eq 89 (pa, pb updated). A support pair (`support_pair`: |n.y| >=
+// support_normal_min) moves only its upper side (n points from b to a: a is
+// upper when n.y > 0), unless that side cannot move. The caller skips pairs
+// whose total inverse mass is 0 and bouncing ones (eq 76).
+template <class T>
+LS_HD void manifold_correction(Vec3<T>& pa, const Vec3<T>& pa0, Vec3<T>& pb, const Vec3<T>& pb0, const Vec3<T>& n,
+                               const T& depth, T inv_a, T inv_b, bool support_pair, const T& slop, const T& percent) {
+  if (support_pair) {
+    if (n.y > T{} ? inv_a > T{} : inv_b > T{}) (n.y > T{} ? inv_b : inv_a) = T{};
+  }
+  Vec3<T> moved = pa - pa0;
+  moved -= pb - pb0;
+  baumgarte_correction(pa, pb, n, depth - dot(moved, n), inv_a, inv_b, slop, percent);  // eqs 63, 89
+}
+
 // eq 111: one point of a body pair's manifold pushed out of its residual
 // penetration, by translating and turning the two sides (non-linear
 // Gauss-Seidel on positions). `a.v`, `a.w` (and b's) hold the displacement

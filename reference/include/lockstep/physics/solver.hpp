@@ -193,9 +193,13 @@ LS_HD T manifold_step(const BodyView<T>& A, const BodyView<T>& B, const Point& p
 // contact); `load(k)` and `store(k, state)` read and write its solver state.
 // The visit is skipped when the first point's k_n is 0 (both sides
 // immovable).
+// `k_scale` multiplies every point's effective masses on top of eq 99's
+// split: 1 is World<T>'s sequential visit; the GPU engine's Jacobi visits of
+// a pair of active bodies pass their mass splitting (docs/GPU.md), as
+// solve_contact's k_scale.
 template <int N, class T, class Point, class Load, class Store>
 LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point, const Load& load, const Store& store,
-                          bool friction, bool gravity, const Params<T>& P, SolveCounts& counts) {
+                          bool friction, bool gravity, const T& k_scale, const Params<T>& P, SolveCounts& counts) {
   const T one = Num<T>::from_int(1);
   T split = one;  // eq 99
   int count = 0;
@@ -212,6 +216,7 @@ LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point, co
     }
     if (count == 0) return;
     if (count > 1 && o > one) split = o;
+    if (!(k_scale == one)) split = split * k_scale;
   }
   T dj[N], res[N];
 #if defined(__CUDA_ARCH__)
@@ -293,6 +298,14 @@ LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point, co
     apply_impulse(A, r1, B, r2, dJ[k]);  // eqs 61-62, 87
     ++counts.friction_steps;
   }
+}
+
+// The sequential visit (k_scale 1): World<T>'s, and the GPU engine's visits
+// on one body's own velocity.
+template <int N, class T, class Point, class Load, class Store>
+LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point, const Load& load, const Store& store,
+                          bool friction, bool gravity, const Params<T>& P, SolveCounts& counts) {
+  solve_manifold<N>(A, B, point, load, store, friction, gravity, Num<T>::from_int(1), P, counts);
 }
 
 }  // namespace lockstep

@@ -1,0 +1,301 @@
+// The GPU engine's kernels of the oriented-box pair model's sequential
+// orders (docs/SPEC.md 2.4, eqs 108-110; docs/GPU.md "Pair models"):
+// World<T> decides the support wake (eq 108) in index order, the eq 110
+// corrections in height order and the sleep of eq 109 in height order, each
+// step seeing the ones before it. Here each is a sweep that every element
+// computes from the previous sweep's results of the elements before it in
+// that order; sweeps repeat until one reproduces its input bit for bit. An
+// element's result depends only on elements before it, so the sweeps reach
+// the one fixed point, World<T>'s result, after as many sweeps as the longest
+// chain of dependencies (a column's height) plus one.
+#pragma once
+#include "stages.hpp"
+
+namespace lockstep::gpu {
+
+// Eq 108's record of a sleeping body (World<T>::record_supports): the
+// dynamic bodies it rested on when it fell asleep (at most 4, in contact
+// order), each support point in that body's frame and where it was.
+struct RestArrays {
+  int* count = nullptr;  // per body
+  int* body = nullptr;   // 4 per body
+  F4* local = nullptr;   // 4 per body
+  F4* rest = nullptr;    // 4 per body
+};
+inline constexpr int kMaxRests = 4;
+
+// ---------------------------------------------------------------------------
+// Stage 2a (eq 108), one sweep over every body: a sleeping body wakes when a
+// body it rested on is awake (awake at the frame's start, or woken by this
+// wake at a lower index: the previous sweep's `in`) and has carried its
+// support point away by more than wake_support_distance.
+struct SupportWakeK {
+  BodyArrays b;
+  SceneConsts sc;
+  RestArrays rests;
+  const int* in;  // per body: woken by the previous sweep
+  int* out;
+  int* changed;   // bodies whose result differs from `in`
+  LS_HD void operator()(int i) const {
+    int woke = 0;
+    const int n = (ro(b.flags + i) & kFlagAsleep) != 0 ? ro(rests.count + i) : 0;
+    for (int r = 0; r < n && woke == 0; ++r) {
+      const int s = ro(rests.body + kMaxRests * i + r);
+      const bool awake = is_awake(ro(b.flags + s)) || (s < i && ro(in + s) != 0);
+      if (!awake) continue;
+      const Mat3<float> R = rotation_matrix(quat(ro(b.rot + s)));
+      if (support_moved(xyz(ro(b.pos + s)), R, xyz(ro(rests.local + kMaxRests * i + r)),
+                        xyz(ro(rests.rest + kMaxRests * i + r)), sc.P.wake_support_distance))  // eq 108
+        woke = 1;
+    }
+    out[i] = woke;
+    if (changed != nullptr) add_to(changed, woke != ro(in + i) ? 1 : 0);
+  }
+};
+
+// The bodies the support wake woke: awake again (counter 0), listed (the
+// host sorts the list and appends it to the awake list).
+struct SupportWakeApplyK {
+  BodyArrays b;
+  const int* woke;
+  int* woken;
+  int* n_woken;
+  LS_HD void operator()(int i) const {
+    if (woke[i] == 0) return;
+    b.flags[i] = static_cast<std::uint8_t>(b.flags[i] & ~kFlagAsleep);
+    b.sleep_counter[i] = 0;
+    woken[claim_one(n_woken)] = i;
+  }
+};
+
+// dst[k] = src[k].
+struct CopyIntsK {
+  const int* src;
+  int* dst;
+  LS_HD void operator()(int k) const { dst[k] = src[k]; }
+};
+
+// ---------------------------------------------------------------------------
+// Stage 7, eq 110: the corrections of the body pairs after the world's
+// (CorrectIntegrateK), in ascending (lower side's y before the stage, lower
+// index, higher index) order, each by the mean depth of its points less what
+// the stage has moved its sides apart (manifold_correction). One sweep: each
+// active body walks its pairs in that order from its position after the
+// world's corrections, taking the other side's position before the pair from
+// the previous sweep (its entry of the pair in `before_in`), and records its
+// own position before each pair in `before_out`.
+struct PairCorrectK {
+  const int* list;
+  BodyArrays b;
+  SceneConsts sc;
+  NeighbourLists lists;
+  const PairManifold* man;
+  const int* slot_of;
+  const F4* p_world;    // per slot
+  const F4* before_in;  // per entry
+  F4* before_out;
+  F4* p_out;            // per slot: the position after every pair
+  int* changed;         // entries whose result differs from `before_in`
+  LS_HD void operator()(int k) const {
+    const int i = ro(list + k);
+    const F4 pi4 = ro(b.pos + i);
+    const Vec3<float> p0 = xyz(pi4);
+    Vec3<float> p = xyz(p_world[k]);
+    const int beg = lists.begin(k), end = lists.end(k);
+    int differ = 0;
+    bool started = false;
+    float last_y = 0.0f;
+    int last_j = -1;
+    // The pair of entry t goes before the pair (y, lo, hi) in the order.
+    auto key_of = [&](int t, float& y, int& lo, int& hi) {
+      const int j = ro(lists.nbr + t);
+      const float yj = ro(b.pos + j).y;
+      y = i < j ? Num<float>::min(p0.y, yj) : Num<float>::min(yj, p0.y);
+      lo = i < j ? i : j;
+      hi = i < j ? j : i;
+    };
+    auto before = [](float y1, int lo1, int hi1, float y2, int lo2, int hi2) {
+      if (y1 != y2) return y1 < y2;
+      return lo1 != lo2 ? lo1 < lo2 : hi1 < hi2;
+    };
+    for (;;) {
+      int best = -1;
+      float by = 0.0f;
+      int blo = 0, bhi = 0;
+      for (int t = beg; t < end; ++t) {  // the next pair in the order
+        if (ro(&man[t].count) == 0) continue;
+        float y;
+        int lo, hi;
+        key_of(t, y, lo, hi);
+        if (started) {
+          const int llo = i < last_j ? i : last_j, lhi = i < last_j ? last_j : i;
+          if (!before(last_y, llo, lhi, y, lo, hi)) continue;
+        }
+        if (best < 0 || before(y, lo, hi, by, blo, bhi)) { best = t; by = y; blo = lo; bhi = hi; }
+      }
+      if (best < 0) break;
+      const int t = best;
+      const int j = ro(lists.nbr + t);
+      started = true;
+      last_y = by;
+      last_j = j;
+      const F4 mine = f4(p, 0.0f);
+      before_out[t] = mine;
+      if (!same_bits(mine, ro(before_in + t))) ++differ;
+      const PairManifold& rec = man[t];
+      if (ro(&rec.st[ro(&rec.deepest)].b).y > 0.0f) continue;  // bouncing (eq 76): its rebound separates it
+      const F4 pj4 = ro(b.pos + j);
+      const bool j_awake = is_awake(ro(b.flags + j));
+      const bool lower = i < j;
+      const float inv_j = j_awake ? pj4.w : 0.0f;
+      const float inv_a = lower ? pi4.w : inv_j, inv_b = lower ? inv_j : pi4.w;
+      if (inv_a == 0.0f && inv_b == 0.0f) continue;
+      const Vec3<float> pj0 = xyz(pj4);
+      Vec3<float> q = pj0;  // j's position before this pair
+      if (j_awake) {
+        const int m = lists.find(ro(slot_of + j), i);
+        if (m >= 0) q = xyz(ro(before_in + m));
+      }
+      Vec3<float> pa = lower ? p : q, pb = lower ? q : p;
+      const Vec3<float> n = xyz(ro(&rec.n));
+      manifold_correction(pa, lower ? p0 : pj0, pb, lower ? pj0 : p0, n, ro(&rec.depth), inv_a, inv_b,
+                          Num<float>::abs(n.y) >= sc.P.support_normal_min, sc.P.slop, sc.P.baumgarte);  // eq 110
+      p = lower ? pa : pb;
+    }
+    p_out[k] = f4(p, pi4.w);
+    if (changed != nullptr) add_to(changed, differ);
+  }
+};
+
+// Stage 8 after eq 110: eqs 2, 7-10 from the corrected position into the
+// per-slot buffers (CommitSleepK commits them); counts the pair corrections
+// (once per pair).
+struct IntegrateK {
+  const int* list;
+  BodyArrays b;
+  SceneConsts sc;
+  NeighbourLists lists;
+  const PairManifold* man;  // null: no pairs
+  const F4* p_in;           // per slot
+  F4* p_out;
+  F4* q_out;
+  Counter* ctr;
+  LS_HD void operator()(int k) const {
+    const int i = ro(list + k);
+    const F4 pi4 = ro(b.pos + i);
+    Vec3<float> p = xyz(p_in[k]);
+    Quat<float> q = quat(ro(b.rot + i));
+    integrate_pose(p, q, xyz(b.vel[i]), xyz(b.ang[i]), sc.P);  // eqs 2, 7-10
+    unsigned corrections = 0;
+    if (man != nullptr) {
+      for (int t = lists.begin(k); t < lists.end(k); ++t) {
+        const PairManifold& rec = man[t];
+        if (ro(&rec.count) == 0 || ro(&rec.st[ro(&rec.deepest)].b).y > 0.0f) continue;
+        const int j = ro(lists.nbr + t);
+        const bool j_awake = is_awake(ro(b.flags + j));
+        if ((i < j || !j_awake) && (pi4.w != 0.0f || (j_awake && ro(b.pos + j).w != 0.0f))) ++corrections;
+      }
+    }
+    p_out[k] = f4(p, pi4.w);
+    q_out[k] = f4(q);
+    add_counter(&ctr[kCCorrections], corrections);
+  }
+};
+
+// ---------------------------------------------------------------------------
+// Stage 9, eq 109, one sweep over the active bodies: a ready body (its
+// counter reached sleep_frames, CommitSleepK) falls asleep when every dynamic
+// body it rests on (the other side of a touching pair point whose normal
+// towards it is within acos(support_normal_min) of up) is not awake, or is a
+// ready body before it in ascending (y, index) order that falls asleep (the
+// previous sweep's `in`).
+struct SleepSweepK {
+  const int* list;
+  BodyArrays b;
+  SceneConsts sc;
+  NeighbourLists lists;
+  const PairManifold* man;  // null: no pairs
+  const int* slot_of;
+  const int* ready;  // per slot
+  const int* in;     // per slot
+  int* out;
+  int* changed;
+  LS_HD void operator()(int k) const {
+    const int i = ro(list + k);
+    int sleeps = ro(ready + k);
+    const float yi = ro(b.pos + i).y;
+    if (sleeps != 0 && man != nullptr) {
+      for (int t = lists.begin(k); t < lists.end(k) && sleeps != 0; ++t) {
+        const PairManifold& rec = man[t];
+        const int count = ro(&rec.count);
+        const int j = ro(lists.nbr + t);
+        const Vec3<float> n = xyz(ro(&rec.n));
+        const float up = i < j ? n.y : -n.y;
+        if (count == 0 || up < sc.P.support_normal_min || !is_awake(ro(b.flags + j))) continue;
+        bool touching = false;
+        for (int c = 0; c < count; ++c) touching = touching || ro(&rec.pt[c].w) > -sc.P.slop;
+        if (!touching) continue;
+        const float yj = ro(b.pos + j).y;
+        const bool earlier = yj != yi ? yj < yi : j < i;
+        if (!(earlier && ro(in + ro(slot_of + j)) != 0)) sleeps = 0;
+      }
+    }
+    out[k] = sleeps;
+    if (changed != nullptr) add_to(changed, sleeps != ro(in + k) ? 1 : 0);
+  }
+};
+
+// The bodies eq 109 put to sleep: eq 80 (velocities 0), asleep since this
+// frame, left out of the next awake list, growth back to half_tol, and what
+// they rest on recorded for eq 108 (World<T>::record_supports).
+struct SleepApplyK {
+  const int* list;
+  BodyArrays b;
+  SceneConsts sc;
+  NeighbourLists lists;
+  const PairManifold* man;  // null: no pairs
+  const int* sleeps;        // per slot
+  RestArrays rests;
+  float* grow;
+  int frame;
+  int* keep;
+  LS_HD void operator()(int k) const {
+    if (sleeps[k] == 0) return;
+    const int i = list[k];
+    b.vel[i] = F4{};
+    b.ang[i] = F4{};
+    b.flags[i] = static_cast<std::uint8_t>(b.flags[i] | kFlagAsleep);
+    b.sleep_frame[i] = frame;
+    keep[k] = 0;
+    grow[i] = sc.half_tol;
+    int n = 0;
+    bool full = false;
+    if (man != nullptr) {
+      for (int t = lists.begin(k); t < lists.end(k) && !full; ++t) {
+        const PairManifold& rec = man[t];
+        const int j = ro(lists.nbr + t);
+        const Vec3<float> nn = xyz(rec.n);
+        const float up = i < j ? nn.y : -nn.y;
+        for (int c = 0; c < rec.count; ++c) {
+          if (!(rec.pt[c].w > -sc.P.slop) || up < sc.P.support_normal_min) continue;
+          if (ro(b.pos + j).w == 0.0f) continue;  // a static body (inverse mass 0; its flags may be written now)
+          bool seen = false;
+          for (int r = 0; r < n; ++r) seen = seen || rests.body[kMaxRests * i + r] == j;
+          if (seen) continue;
+          if (n == kMaxRests) { full = true; break; }
+          const F4 pj4 = ro(b.pos + j);
+          const Mat3<float> R = rotation_matrix(quat(b.rot[j]));
+          const Vec3<float> pj = xyz(pj4);
+          const Vec3<float> local = mat_transpose_mul(R, xyz(rec.pt[c]) - pj);
+          rests.body[kMaxRests * i + n] = j;
+          rests.local[kMaxRests * i + n] = f4(local, 0.0f);
+          rests.rest[kMaxRests * i + n] = f4(pj + R * local, 0.0f);
+          ++n;
+        }
+      }
+    }
+    rests.count[i] = n;
+  }
+};
+
+}  // namespace lockstep::gpu
