@@ -117,13 +117,32 @@ LS_HD T manifold_step_length(const T& a, const T& b) {
   return a / b;
 }
 
+// eq 87's four velocity changes for impulse J (at r1 on a, -J at r2 on b),
+// before they are added: they depend on the bodies' masses, rotations and
+// inertia only, so a manifold (eq 99) that has formed them once to measure
+// its step applies the same values.
+template <class T>
+struct ImpulseDelta {
+  Vec3<T> va, wa, vb, wb;
+};
+template <class T>
+LS_HD_INLINE ImpulseDelta<T> impulse_delta(const BodyView<T>& a, const Vec3<T>& r1, const BodyView<T>& b,
+                                           const Vec3<T>& r2, const Vec3<T>& J) {
+  return {J * a.inv_mass, apply_inverse_inertia(a.R, a.inv_inertia, cross(r1, J)), J * b.inv_mass,
+          apply_inverse_inertia(b.R, b.inv_inertia, cross(r2, J))};
+}
+template <class T>
+LS_HD_INLINE void apply_delta(BodyView<T>& a, BodyView<T>& b, const ImpulseDelta<T>& d) {
+  a.v += d.va;
+  a.w += d.wa;
+  b.v -= d.vb;
+  b.w -= d.wb;
+}
+
 // eq 87 (two-body eqs 54-55 and 61-62): impulse J on body a at r1, -J on b at r2.
 template <class T>
 LS_HD_INLINE void apply_impulse(BodyView<T>& a, const Vec3<T>& r1, BodyView<T>& b, const Vec3<T>& r2, const Vec3<T>& J) {
-  a.v += J * a.inv_mass;
-  a.w += apply_inverse_inertia(a.R, a.inv_inertia, cross(r1, J));
-  b.v -= J * b.inv_mass;
-  b.w -= apply_inverse_inertia(b.R, b.inv_inertia, cross(r2, J));
+  apply_delta(a, b, impulse_delta(a, r1, b, r2, J));
 }
 
 // eq 56: v_tan = v_rel - (v_rel.n) n.
