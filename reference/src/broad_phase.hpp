@@ -29,6 +29,14 @@ void World<T>::broad_phase() {
   pairs_.clear();
   if (!scene_.effects.contacts || bodies_.size() < 2) return;
   const std::size_t n = bodies_.size();
+  // A pair needs an awake side (maybe_pair): with every body asleep or static
+  // there is none, and the grid is not built (a pile at rest costs nothing here).
+  bool any_awake = false;
+  for (const Body<T>& b : bodies_) any_awake = any_awake || b.awake();
+  if (!any_awake) {
+    counters_.broadphase_bodies += n;
+    return;
+  }
   // Boxes grown by half the contact tolerance (eq 97) and, with the
   // oriented-box pair model, by the body's speculative reach (eq 107), as the
   // narrowphase grows them.

@@ -26,6 +26,7 @@
 // Forced inlining of the hot Q16 primitives (GCC and clang; others inline at will).
 #if defined(__GNUC__) || defined(__clang__)
 #define LOCKSTEP_Q16_INLINE inline __attribute__((always_inline))
+#define LOCKSTEP_Q16_OVERFLOW_BUILTINS 1  // __builtin_add/sub_overflow: the exact sum and whether it fits
 #else
 #define LOCKSTEP_Q16_INLINE inline
 #endif
@@ -58,11 +59,27 @@ namespace q16detail {
 constexpr std::int64_t kMax = std::numeric_limits<std::int32_t>::max();
 constexpr std::int64_t kMin = std::numeric_limits<std::int32_t>::min();
 inline void raise(std::uint32_t f) { q16_status_word |= f; }
+// The clamp of an int64 outside int32 (the rare path of saturate, out of line).
+#if defined(__GNUC__) || defined(__clang__)
+[[gnu::cold, gnu::noinline]]
+#endif
+inline std::int32_t clamp_out_of_range(std::int64_t v) {
+  raise(kQ16Overflow);
+  return static_cast<std::int32_t>(v > kMax ? kMax : kMin);
+}
 // Clamp an exact int64 result into int32, raising kQ16Overflow when it clamps.
+// One test: v is in [kMin, kMax] exactly when v - kMin (modulo 2^64) <= 2^32 - 1.
 LOCKSTEP_Q16_INLINE std::int32_t saturate(std::int64_t v) {
-  if (v > kMax) { raise(kQ16Overflow); return static_cast<std::int32_t>(kMax); }
-  if (v < kMin) { raise(kQ16Overflow); return static_cast<std::int32_t>(kMin); }
+  if (static_cast<std::uint64_t>(v) - static_cast<std::uint64_t>(kMin) > 0xFFFFFFFFull) [[unlikely]]
+    return clamp_out_of_range(v);
   return static_cast<std::int32_t>(v);
+}
+// round(s / 2^16) to nearest, ties to even, for every int64 s (no
+// intermediate can overflow): with q = floor(s / 2^16) and the dropped bits
+// r = s & 0xFFFF, +1 when r > 2^15, or r = 2^15 and q is odd.
+LOCKSTEP_Q16_INLINE std::int64_t round_shift16_any(std::int64_t s) {
+  const std::int64_t q = s >> 16;
+  return q + (((s & 0xFFFF) + 0x7FFF + (q & 1)) >> 16);
 }
 // floor(n / d) for d != 0, exact in int64 (C++ '/' truncates toward zero).
 constexpr std::int64_t floor_div(std::int64_t n, std::int64_t d) {
@@ -94,19 +111,18 @@ constexpr std::int64_t round_div(std::int64_t n, std::int64_t d) {
 // floor(sqrt(n)), exact. The double square root (correctly rounded by IEEE
 // 754, but n itself may round on conversion) is only a first guess; the
 // integer corrections make r the unique value with r^2 <= n < (r + 1)^2,
-// tested without overflow as r <= n / r.
-inline std::uint64_t isqrt(std::uint64_t n) {
-  if (n == 0) return 0;
+// tested with products that cannot overflow: r <= 2^32 - 1, so r^2 < 2^64,
+// and (r + 1)^2 is formed only for r < 2^32 - 1 ((2^32)^2 > n always).
+LOCKSTEP_Q16_INLINE std::uint64_t isqrt(std::uint64_t n) {
   auto r = static_cast<std::uint64_t>(std::sqrt(static_cast<double>(n)));
   if (r > 0xFFFFFFFFull) r = 0xFFFFFFFFull;  // floor(sqrt(2^64 - 1))
-  if (r == 0) r = 1;                          // n >= 1
-  while (r > n / r) --r;
-  while (r + 1 <= n / (r + 1)) ++r;
+  while (r * r > n) --r;
+  while (r < 0xFFFFFFFFull && (r + 1) * (r + 1) <= n) ++r;
   return r;
 }
 // round(sqrt(n)) to nearest: r = floor(sqrt(n)), up when n - r^2 > r, i.e.
 // n >= (r + 1/2)^2 + 1/4; sqrt(n) is never r + 1/2 exactly (no ties).
-inline std::uint64_t isqrt_round(std::uint64_t n) {
+LOCKSTEP_Q16_INLINE std::uint64_t isqrt_round(std::uint64_t n) {
   const std::uint64_t r = isqrt(n);
   return n - r * r > r ? r + 1 : r;
 }
@@ -138,15 +154,30 @@ class Q16 {
   friend constexpr bool operator==(Q16 a, Q16 b) = default;
   friend constexpr auto operator<=>(Q16 a, Q16 b) { return a.raw_ <=> b.raw_; }
 
-  // Exact sum, clamped.
+  // Exact sum, clamped. (With the overflow builtins: the int32 sum, and the
+  // clamp of the exact int64 sum only when that does not fit; the same value.)
   friend LOCKSTEP_Q16_INLINE Q16 operator+(Q16 a, Q16 b) {
+#if defined(LOCKSTEP_Q16_OVERFLOW_BUILTINS)
+    std::int32_t r;
+    if (__builtin_add_overflow(a.raw_, b.raw_, &r)) [[unlikely]]
+      return from_raw(q16detail::clamp_out_of_range(std::int64_t{a.raw_} + b.raw_));
+    return from_raw(r);
+#else
     return from_raw(q16detail::saturate(std::int64_t{a.raw_} + b.raw_));
+#endif
   }
   friend LOCKSTEP_Q16_INLINE Q16 operator-(Q16 a, Q16 b) {
+#if defined(LOCKSTEP_Q16_OVERFLOW_BUILTINS)
+    std::int32_t r;
+    if (__builtin_sub_overflow(a.raw_, b.raw_, &r)) [[unlikely]]
+      return from_raw(q16detail::clamp_out_of_range(std::int64_t{a.raw_} - b.raw_));
+    return from_raw(r);
+#else
     return from_raw(q16detail::saturate(std::int64_t{a.raw_} - b.raw_));
+#endif
   }
   // -INT32_MIN clamps to INT32_MAX (kQ16Overflow).
-  friend LOCKSTEP_Q16_INLINE Q16 operator-(Q16 a) { return from_raw(q16detail::saturate(-std::int64_t{a.raw_})); }
+  friend LOCKSTEP_Q16_INLINE Q16 operator-(Q16 a) { return Q16{} - a; }
   // eq 21 (Fix 11): round(Ra * Rb / 2^16), to nearest, ties to even: exact
   // int64 product, round_shift16, clamp.
   friend LOCKSTEP_Q16_INLINE Q16 operator*(Q16 a, Q16 b) {

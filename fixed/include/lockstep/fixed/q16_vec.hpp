@@ -41,23 +41,59 @@ class Q16Accumulator {
   std::int64_t low_ = 0;
 };
 
-// a.b: exact sum, one floor. Error in [0, 1) ulp below the exact value.
-LOCKSTEP_Q16_INLINE Q16 dot(const Vec3<Q16>& a, const Vec3<Q16>& b) {
+// The component-wise operations of lockstep/math/vec.hpp for Q16, the same
+// formulas (each component one Q16 operation), forced inline: as templates
+// the compiler called them out of line, and they were a third of a frame.
+LOCKSTEP_Q16_INLINE Vec3<Q16> operator+(const Vec3<Q16>& a, const Vec3<Q16>& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+LOCKSTEP_Q16_INLINE Vec3<Q16> operator-(const Vec3<Q16>& a, const Vec3<Q16>& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+LOCKSTEP_Q16_INLINE Vec3<Q16> operator-(const Vec3<Q16>& a) { return {-a.x, -a.y, -a.z}; }
+LOCKSTEP_Q16_INLINE Vec3<Q16> operator*(const Vec3<Q16>& a, const Q16& s) { return {a.x * s, a.y * s, a.z * s}; }
+LOCKSTEP_Q16_INLINE Vec3<Q16> operator*(const Q16& s, const Vec3<Q16>& a) { return {a.x * s, a.y * s, a.z * s}; }
+LOCKSTEP_Q16_INLINE Vec3<Q16>& operator+=(Vec3<Q16>& a, const Vec3<Q16>& b) { a = a + b; return a; }
+LOCKSTEP_Q16_INLINE Vec3<Q16>& operator-=(Vec3<Q16>& a, const Vec3<Q16>& b) { a = a - b; return a; }
+LOCKSTEP_Q16_INLINE Vec3<Q16> hadamard(const Vec3<Q16>& a, const Vec3<Q16>& b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
+
+namespace q16detail {
+// round((a0 b0 + a1 b1 + a2 b2) / 2^16) of the exact sum, clamped: the int64
+// sum when it does not overflow (|products| <= 2^62, so it rarely can), else
+// Q16Accumulator; the same value either way.
+LOCKSTEP_Q16_INLINE Q16 sum3(std::int32_t a0, std::int32_t b0, std::int32_t a1, std::int32_t b1, std::int32_t a2,
+                             std::int32_t b2) {
+#if defined(LOCKSTEP_Q16_OVERFLOW_BUILTINS)
+  std::int64_t s;
+  const bool o1 = __builtin_add_overflow(std::int64_t{a0} * b0, std::int64_t{a1} * b1, &s);
+  const bool o2 = __builtin_add_overflow(s, std::int64_t{a2} * b2, &s);
+  if (!(o1 || o2)) [[likely]] return Q16::from_raw(saturate(round_shift16_any(s)));
+#endif
   Q16Accumulator acc;
-  acc.add_product(a.x.raw(), b.x.raw());
-  acc.add_product(a.y.raw(), b.y.raw());
-  acc.add_product(a.z.raw(), b.z.raw());
+  acc.add_product(a0, b0);
+  acc.add_product(a1, b1);
+  acc.add_product(a2, b2);
   return acc.result();
 }
-// eq 51: a x b, each component an exact difference of products, one floor.
+// round((a0 b0 - a1 b1) / 2^16) of the exact difference, clamped, as sum3.
+LOCKSTEP_Q16_INLINE Q16 diff2(std::int32_t a0, std::int32_t b0, std::int32_t a1, std::int32_t b1) {
+#if defined(LOCKSTEP_Q16_OVERFLOW_BUILTINS)
+  std::int64_t s;
+  if (!__builtin_sub_overflow(std::int64_t{a0} * b0, std::int64_t{a1} * b1, &s)) [[likely]]
+    return Q16::from_raw(saturate(round_shift16_any(s)));
+#endif
+  Q16Accumulator acc;
+  acc.add_product(a0, b0);
+  acc.sub_product(a1, b1);
+  return acc.result();
+}
+}  // namespace q16detail
+
+// a.b: exact sum, one rounding (to nearest, ties to even).
+LOCKSTEP_Q16_INLINE Q16 dot(const Vec3<Q16>& a, const Vec3<Q16>& b) {
+  return q16detail::sum3(a.x.raw(), b.x.raw(), a.y.raw(), b.y.raw(), a.z.raw(), b.z.raw());
+}
+// eq 51: a x b, each component an exact difference of products, one rounding.
 LOCKSTEP_Q16_INLINE Vec3<Q16> cross(const Vec3<Q16>& a, const Vec3<Q16>& b) {
-  auto comp = [](Q16 p, Q16 q, Q16 r, Q16 s) {
-    Q16Accumulator acc;
-    acc.add_product(p.raw(), q.raw());
-    acc.sub_product(r.raw(), s.raw());
-    return acc.result();
-  };
-  return {comp(a.y, b.z, a.z, b.y), comp(a.z, b.x, a.x, b.z), comp(a.x, b.y, a.y, b.x)};
+  return {q16detail::diff2(a.y.raw(), b.z.raw(), a.z.raw(), b.y.raw()),
+          q16detail::diff2(a.z.raw(), b.x.raw(), a.x.raw(), b.z.raw()),
+          q16detail::diff2(a.x.raw(), b.y.raw(), a.y.raw(), b.x.raw())};
 }
 // Sum of squared raw components, exact in uint64 (3 * 2^62 < 2^64).
 inline std::uint64_t raw_length_sq(const Vec3<Q16>& a) {
@@ -175,13 +211,10 @@ LOCKSTEP_Q16_INLINE Vec3<Q16> operator*(const Mat3<Q16>& m, const Vec3<Q16>& v) 
 }
 // m^T v: column sums, exact, one floor each.
 LOCKSTEP_Q16_INLINE Vec3<Q16> mat_transpose_mul(const Mat3<Q16>& m, const Vec3<Q16>& v) {
-  Vec3<Q16> out;
-  for (int i = 0; i < 3; ++i) {
-    Q16Accumulator acc;
-    for (int j = 0; j < 3; ++j) acc.add_product(m.row[j][i].raw(), v[j].raw());
-    out[i] = acc.result();
-  }
-  return out;
+  auto col = [&](int i) {
+    return q16detail::sum3(m.row[0][i].raw(), v.x.raw(), m.row[1][i].raw(), v.y.raw(), m.row[2][i].raw(), v.z.raw());
+  };
+  return {col(0), col(1), col(2)};
 }
 // q v q*, through the matrix: two floors per component. Against the exact
 // P(q) v: < 1 + ||v||_1 ulp (||v||_1 in units; < 2.74 ulp for |v| <= 1).

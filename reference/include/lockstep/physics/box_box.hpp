@@ -66,13 +66,20 @@ LS_HD Vec3<T> axis(const Mat3<T>& R, int j) { return {R.row[0][j], R.row[1][j], 
 
 // eq 100: the separation of two boxes along a unit axis L (in any common
 // frame): s = |d.L| - sum_i ha_i |A_i.L| - sum_j hb_j |B_j.L|, d = pb - pa.
+// From the projections dL = d.L, pa_i = A_i.L and pb_j = B_j.L.
+template <class T>
+LS_HD_INLINE T separation_of(const T& dL, const T pa[3], const Vec3<T>& ha, const T pb[3], const Vec3<T>& hb) {
+  T s = Num<T>::abs(dL);
+  for (int i = 0; i < 3; ++i) s = s - ha[i] * Num<T>::abs(pa[i]);
+  for (int j = 0; j < 3; ++j) s = s - hb[j] * Num<T>::abs(pb[j]);
+  return s;
+}
 template <class T>
 LS_HD T separation(const Vec3<T>& d, const Vec3<T>& L, const Vec3<T> A[3], const Vec3<T>& ha, const Vec3<T> B[3],
                    const Vec3<T>& hb) {
-  T s = Num<T>::abs(dot(d, L));
-  for (int i = 0; i < 3; ++i) s = s - ha[i] * Num<T>::abs(dot(A[i], L));
-  for (int j = 0; j < 3; ++j) s = s - hb[j] * Num<T>::abs(dot(B[j], L));
-  return s;
+  const T pa[3] = {dot(A[0], L), dot(A[1], L), dot(A[2], L)};
+  const T pb[3] = {dot(B[0], L), dot(B[1], L), dot(B[2], L)};
+  return separation_of(dot(d, L), pa, ha, pb, hb);
 }
 
 // eqs 101-102: candidate wins over the best so far when it separates by more
@@ -246,13 +253,21 @@ LS_HD BoxManifold<T> box_box_manifold(const Vec3<T>& pa, const Mat3<T>& Ra, cons
   T sa{}, sb{}, se{};
   int ia = -1, ib = -1, ie = -1;
   Vec3<T> le{};
+  // The face axes share their projections (dot is symmetric, exactly in
+  // every number type): A_k.A_i, B_j.A_i and B_k.B_j are each formed once, in
+  // the order the axes need them.
+  T AA[3][3], AB[3][3], BB[3][3];  // AA[i][k] = A_k.A_i, AB[i][j] = B_j.A_i, BB[j][k] = B_k.B_j
   for (int i = 0; i < 3; ++i) {
-    const T s = separation(d, A[i], A, ha, B, hb);
+    for (int k = 0; k < 3; ++k) AA[i][k] = k < i ? AA[k][i] : dot(A[k], A[i]);
+    for (int j = 0; j < 3; ++j) AB[i][j] = dot(B[j], A[i]);
+    const T s = separation_of(dot(d, A[i]), AA[i], ha, AB[i], hb);
     if (s > tol) return m;
     if (ia < 0 || s > sa) { sa = s; ia = i; }
   }
   for (int j = 0; j < 3; ++j) {
-    const T s = separation(d, B[j], A, ha, B, hb);
+    const T on_a[3] = {AB[0][j], AB[1][j], AB[2][j]};
+    for (int k = 0; k < 3; ++k) BB[j][k] = k < j ? BB[k][j] : dot(B[k], B[j]);
+    const T s = separation_of(dot(d, B[j]), on_a, ha, BB[j], hb);
     if (s > tol) return m;
     if (ib < 0 || s > sb) { sb = s; ib = j; }
   }

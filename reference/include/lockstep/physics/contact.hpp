@@ -18,14 +18,14 @@ struct BodyView {
 
 // eq 48: v_rel = v1 + w1 x r1 - v2 - w2 x r2.
 template <class T>
-LS_HD Vec3<T> relative_velocity(const BodyView<T>& a, const Vec3<T>& r1, const BodyView<T>& b, const Vec3<T>& r2) {
+LS_HD_INLINE Vec3<T> relative_velocity(const BodyView<T>& a, const Vec3<T>& r1, const BodyView<T>& b, const Vec3<T>& r2) {
   return a.v + cross(a.w, r1) - b.v - cross(b.w, r2);
 }
 
 // eq 86 (two-body eq 52): k = m1^-1 + m2^-1 + (I1^-1 (r1 x d)).(r1 x d) + (I2^-1 (r2 x d)).(r2 x d);
 // an inverse effective mass along direction d (n for eq 53, t for eq 88).
 template <class T>
-LS_HD T inverse_effective_mass(const BodyView<T>& a, const Vec3<T>& r1, const BodyView<T>& b, const Vec3<T>& r2,
+LS_HD_INLINE T inverse_effective_mass(const BodyView<T>& a, const Vec3<T>& r1, const BodyView<T>& b, const Vec3<T>& r2,
                                const Vec3<T>& d) {
   const Vec3<T> rd1 = cross(r1, d), rd2 = cross(r2, d);  // eq 51
   return a.inv_mass + b.inv_mass + dot(apply_inverse_inertia(a.R, a.inv_inertia, rd1), rd1) +
@@ -53,7 +53,7 @@ LS_HD T normal_impulse(const T& e, const T& v_n, const T& k, const T& one) { ret
 // the target is the bounce -e v_n0 (v_n0 <= 0, the approach speed at the start
 // of the solve); one iteration on one contact from J = 0 is then exactly eq 53.
 template <class T>
-LS_HD T accumulate_normal_impulse(T& accumulated, const T& v_n, const T& target, const T& k) {
+LS_HD_INLINE T accumulate_normal_impulse(T& accumulated, const T& v_n, const T& target, const T& k) {
   const T dj = -(v_n - target) / k;
   const T updated = Num<T>::max(accumulated + dj, T{});
   const T applied = updated - accumulated;
@@ -89,7 +89,7 @@ LS_HD T contact_target_velocity(const T& penetration, const T& e, const T& v_n0,
 // cone |J_t| <= mu J_n; each iteration adds -v_tan / k_t and returns the
 // change to apply. One iteration on one contact is exactly eq 88.
 template <class T>
-LS_HD Vec3<T> accumulate_friction_impulse(Vec3<T>& accumulated, const Vec3<T>& v_tan, const T& k_t, const T& mu,
+LS_HD_INLINE Vec3<T> accumulate_friction_impulse(Vec3<T>& accumulated, const Vec3<T>& v_tan, const T& k_t, const T& mu,
                                           const T& j_n) {
   const Vec3<T> old = accumulated;
   Vec3<T> updated = accumulated - v_tan * (Num<T>::from_int(1) / k_t);
@@ -117,18 +117,37 @@ LS_HD T manifold_step_length(const T& a, const T& b) {
   return a / b;
 }
 
+// eq 87's four velocity changes for impulse J (at r1 on a, -J at r2 on b),
+// before they are added: they depend on the bodies' masses, rotations and
+// inertia only, so a manifold (eq 99) that has formed them once to measure
+// its step applies the same values.
+template <class T>
+struct ImpulseDelta {
+  Vec3<T> va, wa, vb, wb;
+};
+template <class T>
+LS_HD_INLINE ImpulseDelta<T> impulse_delta(const BodyView<T>& a, const Vec3<T>& r1, const BodyView<T>& b,
+                                           const Vec3<T>& r2, const Vec3<T>& J) {
+  return {J * a.inv_mass, apply_inverse_inertia(a.R, a.inv_inertia, cross(r1, J)), J * b.inv_mass,
+          apply_inverse_inertia(b.R, b.inv_inertia, cross(r2, J))};
+}
+template <class T>
+LS_HD_INLINE void apply_delta(BodyView<T>& a, BodyView<T>& b, const ImpulseDelta<T>& d) {
+  a.v += d.va;
+  a.w += d.wa;
+  b.v -= d.vb;
+  b.w -= d.wb;
+}
+
 // eq 87 (two-body eqs 54-55 and 61-62): impulse J on body a at r1, -J on b at r2.
 template <class T>
-LS_HD void apply_impulse(BodyView<T>& a, const Vec3<T>& r1, BodyView<T>& b, const Vec3<T>& r2, const Vec3<T>& J) {
-  a.v += J * a.inv_mass;
-  a.w += apply_inverse_inertia(a.R, a.inv_inertia, cross(r1, J));
-  b.v -= J * b.inv_mass;
-  b.w -= apply_inverse_inertia(b.R, b.inv_inertia, cross(r2, J));
+LS_HD_INLINE void apply_impulse(BodyView<T>& a, const Vec3<T>& r1, BodyView<T>& b, const Vec3<T>& r2, const Vec3<T>& J) {
+  apply_delta(a, b, impulse_delta(a, r1, b, r2, J));
 }
 
 // eq 56: v_tan = v_rel - (v_rel.n) n.
 template <class T>
-LS_HD Vec3<T> tangential_velocity(const Vec3<T>& v_rel, const Vec3<T>& n) { return v_rel - n * dot(v_rel, n); }
+LS_HD_INLINE Vec3<T> tangential_velocity(const Vec3<T>& v_rel, const Vec3<T>& n) { return v_rel - n * dot(v_rel, n); }
 
 // eq 58: mu = sqrt(mu1 mu2).
 template <class T>

@@ -37,7 +37,7 @@ LS_HD Vec3<T> box_inverse_inertia(const Vec3<T>& h, const T& inv_mass, const T& 
 // eq 90: I^-1_world x = R diag(I^-1_body) R^T x; for a cube (all three
 // entries equal) this is exactly I^-1 x, and the rotation is skipped.
 template <class T>
-LS_HD Vec3<T> apply_inverse_inertia(const Mat3<T>& R, const Vec3<T>& inv_inertia, const Vec3<T>& x) {
+LS_HD_INLINE Vec3<T> apply_inverse_inertia(const Mat3<T>& R, const Vec3<T>& inv_inertia, const Vec3<T>& x) {
   if (inv_inertia.x == inv_inertia.y && inv_inertia.y == inv_inertia.z) return x * inv_inertia.x;
   return R * hadamard(inv_inertia, mat_transpose_mul(R, x));
 }

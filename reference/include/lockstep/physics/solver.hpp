@@ -132,6 +132,17 @@ LS_HD void solve_contact(BodyView<T>& A, const Vec3<T>& r1, BodyView<T>& B, cons
   }
 }
 
+// Host builds keep what a manifold visit has formed once and would form again:
+// eq 87's velocity changes of each point's impulse (measured by
+// manifold_step, then applied when the step is 1) and the friction step's
+// relative velocities (eq 48, the pull of its eq 99 step). The same values,
+// so the same bits; device builds form them again (fewer registers).
+#if defined(__CUDA_ARCH__)
+inline constexpr bool kManifoldCache = false;
+#else
+inline constexpr bool kManifoldCache = true;
+#endif
+
 // Eq 99's step length for the impulses that a manifold's points propose
 // together: `impulse(k, n)` is point k's proposed impulse (0: none) and
 // `pull(k, r1, r2, n)` the velocity change it asks for, both in world axes;
@@ -139,9 +150,11 @@ LS_HD void solve_contact(BodyView<T>& A, const Vec3<T>& r1, BodyView<T>& B, cons
 // With R the largest component of any impulse (a common scale that keeps the
 // sums inside Q16.16), a = sum_k (J_k / R) . pull_k and b = sum_k (J_k / R) . dv_k,
 // dv_k being the velocity change at point k that all impulses cause together.
+// With `deltas` (and `formed`), point k's eq 87 velocity changes are kept in
+// deltas[k] and formed[k] tells whether they were formed (a non-zero impulse).
 template <int N, class T, class Point, class Impulse, class Pull>
 LS_HD T manifold_step(const BodyView<T>& A, const BodyView<T>& B, const Point& point, const Impulse& impulse,
-                      const Pull& pull) {
+                      const Pull& pull, ImpulseDelta<T>* deltas = nullptr, bool* formed = nullptr) {
   BodyView<T> Z = A, Zb = B;  // the sides at rest: they gather the impulses' velocity change
   Z.v = Z.w = Zb.v = Zb.w = Vec3<T>{};
   T reach{};
@@ -149,12 +162,15 @@ LS_HD T manifold_step(const BodyView<T>& A, const BodyView<T>& B, const Point& p
 #pragma unroll 1
 #endif
   for (int k = 0; k < N; ++k) {
+    if (formed != nullptr) formed[k] = false;
     Vec3<T> r1, r2, n;
     T penetration;
     if (!point(k, r1, r2, n, penetration)) continue;
     const Vec3<T> J = impulse(k, n);
     if (J == Vec3<T>{}) continue;
-    apply_impulse(Z, r1, Zb, r2, J);
+    const ImpulseDelta<T> dl = impulse_delta(Z, r1, Zb, r2, J);  // Z, Zb: A's and B's masses and inertia
+    apply_delta(Z, Zb, dl);
+    if (deltas != nullptr) { deltas[k] = dl; formed[k] = true; }
     reach = Num<T>::max(reach, max_abs(J));
   }
   if (!(reach > T{})) return Num<T>::from_int(1);
@@ -237,12 +253,21 @@ LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point, co
     dj[k] = accumulate_normal_impulse(j_n, v_n, target, c.k_n * split);  // eqs 53, 94, 99
     res[k] = target - v_n;
   }
+  // kManifoldCache: eq 87's velocity changes as manifold_step formed them,
+  // applied as they are when the step is 1 (the impulses unchanged).
+  ImpulseDelta<T> delta[kManifoldCache ? N : 1];
+  bool formed[kManifoldCache ? N : 1];
+  bool cached = false;
   if (count > 1) {
     const T alpha = manifold_step<N>(
         A, B, point, [&](int k, const Vec3<T>& n) { return n * dj[k]; },
-        [&](int k, const Vec3<T>&, const Vec3<T>&, const Vec3<T>& n) { return n * res[k]; });  // eq 99
-    if (alpha < one)
+        [&](int k, const Vec3<T>&, const Vec3<T>&, const Vec3<T>& n) { return n * res[k]; },  // eq 99
+        kManifoldCache ? delta : nullptr, kManifoldCache ? formed : nullptr);
+    if (alpha < one) {
       for (int k = 0; k < N; ++k) dj[k] = dj[k] * alpha;
+    } else {
+      cached = kManifoldCache;
+    }
   }
 #if defined(__CUDA_ARCH__)
 #pragma unroll 1
@@ -254,7 +279,8 @@ LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point, co
     ContactState<T> c = load(k);
     c.j_n += dj[k];  // eq 94: stays >= 0, alpha <= 1
     store(k, c);
-    apply_impulse(A, r1, B, r2, n * dj[k]);  // eq 87
+    if (cached && formed[k]) apply_delta(A, B, delta[k]);  // eq 87, as formed by manifold_step
+    else apply_impulse(A, r1, B, r2, n * dj[k]);            // eq 87
     ++counts.normal_impulses;
   }
   if (!friction) return;
@@ -262,6 +288,7 @@ LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point, co
   // above mu J_n when J_n has since dropped.
   const BodyView<T> A1 = A, B1 = B;
   Vec3<T> dJ[N];
+  Vec3<T> vrel[kManifoldCache ? N : 1];  // kManifoldCache: eq 48 at each point, for the step's pull
 #if defined(__CUDA_ARCH__)
 #pragma unroll 1
 #endif
@@ -272,18 +299,28 @@ LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point, co
     if (!point(k, r1, r2, n, penetration)) continue;
     const ContactState<T> c = load(k);
     if (!(c.j_n > T{}) && c.j_t == Vec3<T>{}) continue;
-    const Vec3<T> v_tan = tangential_velocity(relative_velocity(A1, r1, B1, r2), n);  // eq 56
+    const Vec3<T> vr = relative_velocity(A1, r1, B1, r2);  // eq 48
+    if constexpr (kManifoldCache) vrel[k] = vr;
+    const Vec3<T> v_tan = tangential_velocity(vr, n);  // eq 56
     const bool sliding = length(v_tan) > T{};                                         // eq 57
     const T k_t = sliding ? inverse_effective_mass(A1, r1, B1, r2, normalize(v_tan)) * split : one;  // eqs 60, 88, 99
     Vec3<T> j_t = c.j_t;
     dJ[k] = accumulate_friction_impulse(j_t, v_tan, k_t, c.mu, c.j_n);  // eq 95
   }
+  cached = false;
   if (count > 1) {
     const T alpha = manifold_step<N>(
         A1, B1, point, [&](int k, const Vec3<T>&) { return dJ[k]; },
-        [&](int, const Vec3<T>& r1, const Vec3<T>& r2, const Vec3<T>&) { return -relative_velocity(A1, r1, B1, r2); });  // eq 99
-    if (alpha < one)
+        [&](int k, const Vec3<T>& r1, const Vec3<T>& r2, const Vec3<T>&) {
+          if constexpr (kManifoldCache) return -vrel[k];  // pull is only asked of a point with an impulse
+          else return -relative_velocity(A1, r1, B1, r2);
+        },  // eq 99
+        kManifoldCache ? delta : nullptr, kManifoldCache ? formed : nullptr);
+    if (alpha < one) {
       for (int k = 0; k < N; ++k) dJ[k] = dJ[k] * alpha;
+    } else {
+      cached = kManifoldCache;
+    }
   }
 #if defined(__CUDA_ARCH__)
 #pragma unroll 1
@@ -295,7 +332,8 @@ LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point, co
     ContactState<T> c = load(k);
     c.j_t += dJ[k];
     store(k, c);
-    apply_impulse(A, r1, B, r2, dJ[k]);  // eqs 61-62, 87
+    if (cached && formed[k]) apply_delta(A, B, delta[k]);  // eqs 61-62, 87, as formed by manifold_step
+    else apply_impulse(A, r1, B, r2, dJ[k]);                // eqs 61-62, 87
     ++counts.friction_steps;
   }
 }
