@@ -3,7 +3,7 @@
 // accuracy.md, accuracy.csv and accuracy_vs_time.svg (docs/COMPARE.md).
 #include <algorithm>
 #include <cstdio>
-#include <sstream>
+#include <memory>
 
 #include "commands.hpp"
 #include "lockstep/builtin_scenes.hpp"
@@ -14,34 +14,32 @@
 namespace lockstep::cli {
 namespace {
 
-int accuracy_command(const std::vector<std::string>& argv) {
-  const Args args = parse_args(argv, {"--engines", "--out", "--truth-body-frames", "--machine", "--date", "--timing-runs"},
-                               {"--quiet"});
-  std::vector<std::string> scenes = args.positional;
+struct AccuracyArgs {
+  std::vector<std::string> scenes;
+  std::string engines, out = "accuracy", machine = compare::machine_name(), date;
+  long long truth_body_frames = compare::AccuracyOptions{}.truth_body_frames;
+  int timing_runs = compare::AccuracyOptions{}.max_timing_runs;
+  bool quiet = false;
+};
+
+int accuracy_command(const AccuracyArgs& a) {
+  std::vector<std::string> scenes = a.scenes;
   if (scenes.empty()) scenes = builtin_scene_names();
-  std::vector<std::string> engines;
-  {
-    std::string list = args.get("--engines", "");
-    if (list.empty())
-      for (const std::string& e : engine_names()) list += (list.empty() ? "" : ",") + e;
-    std::stringstream ss(list);
-    for (std::string e; std::getline(ss, e, ',');)
-      if (!e.empty()) engines.push_back(e);
-    if (std::find(engines.begin(), engines.end(), compare::kTruthEngine) == engines.end())
-      engines.push_back(compare::kTruthEngine);
-    for (const std::string& e : engines) {
-      const auto all = accepted_engine_names();
-      if (std::find(all.begin(), all.end(), e) == all.end())
-        throw std::invalid_argument("--engines: unknown engine '" + e + "'");
-    }
+  std::vector<std::string> engines = split_list(a.engines.empty() ? join(engine_names()) : a.engines);
+  if (std::find(engines.begin(), engines.end(), compare::kTruthEngine) == engines.end())
+    engines.push_back(compare::kTruthEngine);
+  for (const std::string& e : engines) {
+    const auto all = accepted_engine_names();
+    if (std::find(all.begin(), all.end(), e) == all.end())
+      throw std::invalid_argument("--engines: unknown engine '" + e + "'; allowed: " + join(all, ", "));
   }
   compare::AccuracyOptions opts;
-  opts.truth_body_frames = args.get_int("--truth-body-frames", opts.truth_body_frames, 1, 1'000'000'000'000LL);
-  opts.max_timing_runs = static_cast<int>(args.get_int("--timing-runs", opts.max_timing_runs, 1, 1000));
-  if (!args.has_flag("--quiet")) opts.log = [](const std::string& s) { std::fprintf(stderr, "%s\n", s.c_str()); };
-  const std::string machine = args.get("--machine", compare::machine_name());
-  const std::string date = args.get("--date", "");
-  const std::string out = args.get("--out", "accuracy");
+  opts.truth_body_frames = a.truth_body_frames;
+  opts.max_timing_runs = a.timing_runs;
+  if (!a.quiet) opts.log = [](const std::string& s) { std::fprintf(stderr, "%s\n", s.c_str()); };
+  const std::string& machine = a.machine;
+  const std::string& date = a.date;
+  const std::string& out = a.out;
 
   std::vector<compare::AccuracyRow> rows;
   for (const std::string& name : scenes) {
@@ -57,9 +55,25 @@ int accuracy_command(const std::vector<std::string>& argv) {
   return 0;
 }
 
+std::function<int()> define(CLI::App& app) {
+  auto a = std::make_shared<AccuracyArgs>();
+  app.add_option("SCENE", a->scenes, "scenes to measure (default: every built-in scene)");
+  app.add_option("--engines", a->engines, "comma-separated engines (default: " + join(engine_names()) +
+                                              "); mp, the truth, is always added");
+  app.add_option("--out", a->out, "folder for accuracy.md, accuracy.csv, accuracy_vs_time.svg")->capture_default_str();
+  app.add_option("--truth-body-frames", a->truth_body_frames, "bodies x frames the mp truth runs at most per scene")
+      ->check(integer_in(1, 1'000'000'000'000LL))->capture_default_str();
+  app.add_option("--timing-runs", a->timing_runs, "timed runs per engine (the fastest counts)")
+      ->check(integer_in(1, 1000))->capture_default_str();
+  app.add_option("--machine", a->machine, "machine name in the table")->capture_default_str();
+  app.add_option("--date", a->date, "date in the table");
+  app.add_flag("--quiet", a->quiet, "no progress log on stderr");
+  return [a] { return accuracy_command(*a); };
+}
+
 const bool registered = register_command({"accuracy",
-    "accuracy [SCENE...] [--engines a,b,..] [--out DIR] [--truth-body-frames N] [--machine M] [--date D]",
-    "each engine's error against the mp truth and its time per step; table + chart", accuracy_command});
+    "each engine's error against the mp truth and its time per step; table + chart",
+    "  lockstep accuracy drop stack5 --engines fixed,float,double --out accuracy\n", define});
 
 }  // namespace
 }  // namespace lockstep::cli

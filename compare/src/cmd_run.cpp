@@ -1,70 +1,87 @@
 // `lockstep run [SCENE] --engine E`: runs a scene and writes its trajectory
-// (CSV or JSON lines) and the per-frame state hashes (eq 92).
+// (CSV or JSON lines), the per-frame state hashes (eq 92) and the run record
+// that `lockstep view` reads (lockstep/compare/view.hpp).
+#include <algorithm>
 #include <chrono>
 #include <cinttypes>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <nlohmann/json.hpp>
 
 #include "commands.hpp"
 #include "lockstep/compare/engine.hpp"
+#include "lockstep/compare/report.hpp"
+#include "lockstep/compare/view.hpp"
 #include "progress.hpp"
 
 namespace lockstep::cli {
 namespace {
+
+using compare::hash_hex;
+using compare::kRunRecordSuffix;
+
+struct RunOptions {
+  std::string scene, engine = "fixed", out, format = "csv";
+  int frames = -1;
+  long long every = 1;
+  bool raw = false, quiet = false, no_progress = false, contacts = false;
+};
 
 void write_csv_header(std::ostream& out) {
   out << "frame,body,px,py,pz,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz,asleep\n";
 }
 
 void write_frame(std::ostream& out, const EngineRun& e, bool jsonl, bool raw) {
-  char buf[512];
   if (jsonl) {
-    std::snprintf(buf, sizeof buf, "{\"frame\":%d,\"hash\":\"%016" PRIx64 "\",\"bodies\":[", e.frame(), e.state_hash());
-    out << buf;
+    nlohmann::json bodies = nlohmann::json::array();
+    for (int i = 0; i < e.body_count(); ++i) {
+      const BodySnapshot b = e.body(i);
+      nlohmann::json j;
+      if (raw) {
+        const std::vector<std::int32_t> r = e.raw_state(i);
+        j = {{"p", {r[0], r[1], r[2]}}, {"q", {r[3], r[4], r[5], r[6]}}, {"v", {r[7], r[8], r[9]}}, {"w", {r[10], r[11], r[12]}}};
+      } else {
+        j = {{"p", b.p}, {"q", b.q}, {"v", b.v}, {"w", b.w}};
+      }
+      j["asleep"] = b.asleep;
+      bodies.push_back(std::move(j));
+    }
+    out << nlohmann::json{{"frame", e.frame()}, {"hash", hash_hex(e.state_hash())}, {"bodies", std::move(bodies)}}.dump()
+        << "\n";
+    return;
   }
+  char buf[512];
   for (int i = 0; i < e.body_count(); ++i) {
     const BodySnapshot b = e.body(i);
-    const std::vector<std::int32_t> r = raw ? e.raw_state(i) : std::vector<std::int32_t>{};
-    if (jsonl) {
-      out << (i ? "," : "") << "{\"p\":[";
-      if (!r.empty()) {
-        std::snprintf(buf, sizeof buf, "%d,%d,%d],\"q\":[%d,%d,%d,%d],\"v\":[%d,%d,%d],\"w\":[%d,%d,%d]", r[0], r[1], r[2], r[3],
-                      r[4], r[5], r[6], r[7], r[8], r[9], r[10], r[11], r[12]);
-      } else {
-        std::snprintf(buf, sizeof buf, "%.9g,%.9g,%.9g],\"q\":[%.9g,%.9g,%.9g,%.9g],\"v\":[%.9g,%.9g,%.9g],\"w\":[%.9g,%.9g,%.9g]",
-                      b.p[0], b.p[1], b.p[2], b.q[0], b.q[1], b.q[2], b.q[3], b.v[0], b.v[1], b.v[2], b.w[0], b.w[1], b.w[2]);
-      }
-      out << buf << ",\"asleep\":" << (b.asleep ? "true" : "false") << "}";
-    } else if (!r.empty()) {
+    if (raw) {
+      const std::vector<std::int32_t> r = e.raw_state(i);
       std::snprintf(buf, sizeof buf, "%d,%d,%d,%d,%d,%d,%d,%d,%d,%d,%d,%d,%d,%d,%d,%d\n", e.frame(), i, r[0], r[1], r[2], r[3],
                     r[4], r[5], r[6], r[7], r[8], r[9], r[10], r[11], r[12], b.asleep ? 1 : 0);
-      out << buf;
     } else {
       std::snprintf(buf, sizeof buf, "%d,%d,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d\n", e.frame(), i,
                     b.p[0], b.p[1], b.p[2], b.q[0], b.q[1], b.q[2], b.q[3], b.v[0], b.v[1], b.v[2], b.w[0], b.w[1], b.w[2],
                     b.asleep ? 1 : 0);
-      out << buf;
     }
+    out << buf;
   }
-  if (jsonl) out << "]}\n";
 }
 
-int run_command(const std::vector<std::string>& argv) {
-  const Args args = parse_args(argv, {"--engine", "--frames", "--out", "--format", "--every"}, {"--raw", "--quiet", "--no-progress"});
-  if (args.positional.size() > 1) throw std::invalid_argument("run takes one SCENE; got " + std::to_string(args.positional.size()));
-  Scene scene = resolve_scene(args.positional.empty() ? "" : args.positional[0]);
-  scene.frames = static_cast<int>(args.get_int("--frames", scene.frames, 0, 10'000'000));
-  const std::string engine_name = args.get("--engine", "fixed");
-  const std::string format = args.get("--format", "csv");
-  if (format != "csv" && format != "jsonl") throw std::invalid_argument("--format: '" + format + "' must be csv or jsonl");
-  const long long every = args.get_int("--every", 1, 1, 1'000'000);
-  const bool raw = args.has_flag("--raw");
-  if (raw && engine_name != "fixed") throw std::invalid_argument("--raw: only the fixed engine has raw Q16.16 state");
-  const std::string out_path = args.get("--out", scene.name + "-" + engine_name + "." + format);
+std::string penetration_text(double m) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4g m", m);
+  return buf;
+}
 
-  std::unique_ptr<EngineRun> engine = make_engine(engine_name, scene);
+int run_command(const RunOptions& o) {
+  Scene scene = resolve_scene(o.scene);
+  if (o.frames >= 0) scene.frames = o.frames;
+  const bool jsonl = o.format == "jsonl";
+  if (o.raw && o.engine != "fixed") throw std::invalid_argument("--raw: only the fixed engine has raw Q16.16 state");
+  const std::string out_path = o.out.empty() ? scene.name + "-" + o.engine + "." + o.format : o.out;
+
+  std::unique_ptr<EngineRun> engine = make_engine(o.engine, scene);
   std::ofstream file;
   std::ostream* out = &std::cout;
   if (out_path != "-") {
@@ -73,46 +90,81 @@ int run_command(const std::vector<std::string>& argv) {
     out = &file;
   }
   std::ofstream hashes;
-  const bool jsonl = format == "jsonl";
   if (!jsonl && out_path != "-") hashes.open(out_path + ".hashes");
   if (!jsonl) write_csv_header(*out);
   if (hashes) hashes << "frame,hash\n";
-  const bool quiet = args.has_flag("--quiet");
-  if (!quiet) std::fprintf(stderr, "lockstep run: scene '%s' (%zu bodies, %d frames) on %s\n", scene.name.c_str(),
-                           scene.bodies.size(), scene.frames, engine->description().c_str());
-  Progress progress(scene.frames, !args.has_flag("--no-progress") && !quiet);
-  write_frame(*out, *engine, jsonl, raw);
-  int all_asleep_frame = -1;
+  if (!o.quiet)
+    std::fprintf(stderr, "lockstep run: scene '%s' (%zu bodies, %d frames) on %s\n", scene.name.c_str(), scene.bodies.size(),
+                 scene.frames, engine->description().c_str());
+  compare::ViewRecorder record(scene.name + "-" + o.engine, o.engine, o.contacts, false);
+  Progress progress(scene.frames, !o.no_progress && !o.quiet);
+  write_frame(*out, *engine, jsonl, o.raw);
+  record.add(*engine, o.contacts);
   double step_seconds = 0;
   for (int f = 0; f < scene.frames; ++f) {
     const auto t0 = std::chrono::steady_clock::now();
     engine->step();
     step_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    if (engine->frame() % every == 0 || f + 1 == scene.frames) write_frame(*out, *engine, jsonl, raw);
-    if (hashes) { char h[64]; std::snprintf(h, sizeof h, "%d,%016" PRIx64 "\n", engine->frame(), engine->state_hash()); hashes << h; }
-    if (all_asleep_frame < 0) {
-      bool all = engine->body_count() > 0;
-      for (int i = 0; i < engine->body_count() && all; ++i) all = engine->body(i).asleep;
-      if (all) all_asleep_frame = engine->frame();
-    }
+    const bool written = engine->frame() % o.every == 0 || f + 1 == scene.frames;
+    if (written) write_frame(*out, *engine, jsonl, o.raw);
+    record.add(*engine, written && o.contacts);
+    if (hashes) hashes << engine->frame() << "," << hash_hex(engine->state_hash()) << "\n";
     progress.update(f + 1);
   }
-  const double secs = step_seconds;
   progress.finish();
-  if (!quiet) {
-    std::printf("scene %s, engine %s: %d frames, %d bodies, %.3f ms/step (stepping only), final hash %016" PRIx64 ", ", scene.name.c_str(),
-                engine_name.c_str(), engine->frame(), engine->body_count(), scene.frames ? 1e3 * secs / scene.frames : 0.0,
-                engine->state_hash());
-    if (all_asleep_frame >= 0) std::printf("all asleep at frame %d\n", all_asleep_frame);
-    else std::printf("not all asleep\n");
-    if (out_path != "-") std::printf("trajectory: %s%s\n", out_path.c_str(), hashes ? (", hashes: " + out_path + ".hashes").c_str() : "");
+  const double ms = scene.frames ? 1e3 * step_seconds / scene.frames : 0.0;
+  const int asleep_at = record.all_asleep_frame();
+  const std::string record_path = out_path + kRunRecordSuffix;
+  if (hashes) compare::write_file(record_path, compare::run_record_json(scene, record.run(), static_cast<int>(o.every), o.raw));
+  if (o.quiet) {
+    // One line; on stderr when the trajectory goes to stdout.
+    char line[512];
+    std::snprintf(line, sizeof line,
+                  "%s %s: %d frames, %.3f ms/step, hash %s, all asleep at %s, worst penetration %s\n", scene.name.c_str(),
+                  o.engine.c_str(), engine->frame(), ms, hash_hex(engine->state_hash()).c_str(),
+                  asleep_at >= 0 ? ("frame " + std::to_string(asleep_at)).c_str() : "never",
+                  record.run().has_contacts ? penetration_text(record.worst_penetration()).c_str() : "n/a (engine reports no contacts)");
+    std::fputs(line, out_path == "-" ? stderr : stdout);
+    return 0;
   }
+  // The summary; on stderr when the trajectory goes to stdout.
+  std::FILE* summary = out_path == "-" ? stderr : stdout;
+  std::fprintf(summary, "scene %s, engine %s: %d frames, %d bodies, %.3f ms/step (stepping only), final hash %s, ",
+               scene.name.c_str(), o.engine.c_str(), engine->frame(), engine->body_count(), ms,
+               hash_hex(engine->state_hash()).c_str());
+  if (asleep_at >= 0) std::fprintf(summary, "all asleep at frame %d\n", asleep_at);
+  else std::fprintf(summary, "not all asleep\n");
+  if (out_path != "-")
+    std::printf("trajectory: %s%s\n", out_path.c_str(),
+                hashes ? (", hashes: " + out_path + ".hashes, run record: " + record_path).c_str() : "");
   return 0;
 }
 
-const bool registered = register_command({"run",
-    "run [SCENE] [--engine fixed|float|double|mp|gpu|gpu-jacobi] [--frames N] [--out F|-] [--format csv|jsonl] [--every K] [--raw]",
-    "run a scene; write its trajectory and per-frame hashes", run_command});
+std::function<int()> define(CLI::App& app) {
+  auto o = std::make_shared<RunOptions>();
+  app.add_option("SCENE", o->scene, "built-in scene name (lockstep scenes) or a JSON scene file; default: " +
+                                        std::string(kDefaultSceneName));
+  app.add_option("--engine", o->engine, "the engine")->check(one_of(accepted_engine_names()))->capture_default_str();
+  app.add_option("--frames", o->frames, "frames to run (default: the scene's)")->check(integer_in(0, 10'000'000));
+  app.add_option("--out", o->out,
+                 "trajectory file, or - for stdout (default: SCENE-ENGINE.FORMAT); a CSV file gets FILE.hashes and "
+                 "FILE" + std::string(kRunRecordSuffix) + " (what `lockstep view` reads) beside it");
+  app.add_option("--format", o->format, "trajectory format")->check(one_of({"csv", "jsonl"}))->capture_default_str();
+  app.add_option("--every", o->every, "write every K-th frame (and the last)")->check(integer_in(1, 1'000'000))
+      ->capture_default_str();
+  app.add_flag("--raw", o->raw, "raw Q16.16 integers instead of decimals (fixed engine only)");
+  app.add_flag("--contacts", o->contacts, "also record each written frame's contacts in the run record (for view)");
+  app.add_flag("--quiet", o->quiet,
+               "no progress or summary; one final line: frames, ms/step, hash, all-asleep frame, worst penetration");
+  app.add_flag("--no-progress", o->no_progress, "no progress bar");
+  return [o] { return run_command(*o); };
+}
+
+const bool registered = register_command(
+    {"run", "run a scene; write its trajectory, per-frame hashes and run record",
+     "  lockstep run stack5 --engine double --every 10 --out stack5.csv\n"
+     "  lockstep run drop --quiet --out -  > /dev/null\n",
+     define});
 
 }  // namespace
 }  // namespace lockstep::cli

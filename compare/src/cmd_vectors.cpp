@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <iostream>
 #include <map>
+#include <memory>
 
 #include "commands.hpp"
 #include "lockstep/builtin_scenes.hpp"
@@ -13,21 +14,21 @@
 namespace lockstep::cli {
 namespace {
 
-int vectors_command(const std::vector<std::string>& argv) {
-  const Args args = parse_args(argv, {"--scene", "--level", "--frames"}, {"--quiet"});
-  if (args.positional.size() != 2 || (args.positional[0] != "generate" && args.positional[0] != "verify"))
-    throw std::invalid_argument(
-        "usage: lockstep vectors generate|verify DIR [--scene NAME]... [--level L] [--frames N]");
-  const std::string& dir = args.positional[1];
+struct VectorsArgs {
+  std::string action, dir, level;
   std::vector<std::string> scenes;
-  for (const auto& [k, v] : args.options)
-    if (k == "--scene") {
-      if (!builtin_scene(v)) throw std::invalid_argument("--scene: '" + v + "' is not a built-in scene");
-      scenes.push_back(v);
-    }
-  std::ostream* log = args.has_flag("--quiet") ? nullptr : &std::cout;
-  if (args.positional[0] == "generate") {
-    if (args.get("--level", "") != "" || args.get("--frames", "") != "")
+  int frames = -1;
+  bool quiet = false;
+};
+
+int vectors_command(const VectorsArgs& a) {
+  const std::string& dir = a.dir;
+  for (const std::string& v : a.scenes)
+    if (!builtin_scene(v)) throw std::invalid_argument("--scene: '" + v + "' is not a built-in scene");
+  const std::vector<std::string>& scenes = a.scenes;
+  std::ostream* log = a.quiet ? nullptr : &std::cout;
+  if (a.action == "generate") {
+    if (!a.level.empty() || a.frames >= 0)
       throw std::invalid_argument("generate writes every level and every frame; --level and --frames are for verify");
     vectors::GenerateOptions o;
     o.scenes = scenes;
@@ -35,14 +36,12 @@ int vectors_command(const std::vector<std::string>& argv) {
     return 0;
   }
   vectors::VerifyOptions o;
-  const std::string level = args.get("--level", "all");
-  if (level != "all" && level != "arithmetic" && level != "formulas" && level != "scenes")
-    throw std::invalid_argument("--level: '" + level + "' must be all, arithmetic, formulas or scenes");
+  const std::string level = a.level.empty() ? "all" : a.level;
   o.arithmetic = level == "all" || level == "arithmetic";
   o.formulas = level == "all" || level == "formulas";
   o.scenes = level == "all" || level == "scenes";
   o.only_scenes = scenes;
-  const long long frames = args.get_int("--frames", -1, 0, 10'000'000);
+  const long long frames = a.frames;
   if (frames >= 0)
     for (const std::string& n : builtin_scene_names()) o.max_frames[n] = static_cast<int>(frames);
   const std::vector<vectors::Verdict> verdicts = vectors::verify_directory(dir, o, log);
@@ -61,9 +60,22 @@ int vectors_command(const std::vector<std::string>& argv) {
   return 1;
 }
 
+std::function<int()> define(CLI::App& app) {
+  auto a = std::make_shared<VectorsArgs>();
+  app.add_option("ACTION", a->action, "generate: write the vectors; verify: check the fixed engine against them")
+      ->required()->check(one_of({"generate", "verify"}));
+  app.add_option("DIR", a->dir, "the vectors folder (vectors/data in the checkout)")->required();
+  app.add_option("--scene", a->scenes, "only this built-in scene (repeatable; default: all)")->allow_extra_args(false);
+  app.add_option("--level", a->level, "verify only this level (default: all)")
+      ->check(one_of({"all", "arithmetic", "formulas", "scenes"}));
+  app.add_option("--frames", a->frames, "verify only the first N frames of each scene")->check(integer_in(0, 10'000'000));
+  app.add_flag("--quiet", a->quiet, "no per-file log");
+  return [a] { return vectors_command(*a); };
+}
+
 const bool registered = register_command(
-    {"vectors", "vectors generate|verify DIR [--scene NAME]... [--level all|arithmetic|formulas|scenes] [--frames N]",
-     "write the hand-off test vectors, or check the fixed engine against them", vectors_command});
+    {"vectors", "write the hand-off test vectors, or check the fixed engine against them",
+     "  lockstep vectors generate vectors/data\n  lockstep vectors verify vectors/data --scene drop --frames 100\n", define});
 
 }  // namespace
 }  // namespace lockstep::cli

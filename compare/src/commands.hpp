@@ -1,18 +1,25 @@
-// The `lockstep` command's subcommands. Each cmd_*.cpp registers itself.
+// The `lockstep` command's subcommands. Each cmd_*.cpp registers itself with
+// its CLI11 options; main.cpp parses the command line and runs the one named.
 #pragma once
+#include <CLI/CLI.hpp>
+
 #include <functional>
 #include <string>
 #include <vector>
 
+#include "lockstep/builtin_scenes.hpp"
 #include "lockstep/scene.hpp"
 
 namespace lockstep::cli {
 
 struct Command {
   std::string name;
-  std::string usage;    // one line: "run [SCENE] [--engine E] ..."
   std::string summary;  // one line
-  std::function<int(const std::vector<std::string>& args)> run;  // args after the name; returns the exit code
+  std::string example;  // one or more example lines, shown at the end of `lockstep NAME --help`
+  // Adds the command's positionals and options to `app` (bound to state the
+  // returned function owns) and returns what runs the command once the
+  // command line is parsed; it returns the exit code.
+  std::function<std::function<int()>(CLI::App& app)> define;
 };
 
 std::vector<Command>& commands();
@@ -22,17 +29,18 @@ bool register_command(Command c);
 // default scene. Throws SceneError (or std::invalid_argument) with the fix.
 Scene resolve_scene(const std::string& arg);
 
-// Small argument helpers: "--name value" options and flags.
-struct Args {
-  std::vector<std::string> positional;
-  std::vector<std::pair<std::string, std::string>> options;  // in order
-  std::vector<std::string> flags;
-  bool has_flag(const std::string& f) const;
-  std::string get(const std::string& name, const std::string& fallback) const;
-  long long get_int(const std::string& name, long long fallback, long long lo, long long hi) const;
-};
-// value_options: the option names that take a value; any other --x is a flag.
-Args parse_args(const std::vector<std::string>& args, const std::vector<std::string>& value_options,
-                const std::vector<std::string>& flag_options);
+// Validators whose messages name what is allowed ("--frames: 'x' must be an
+// integer in [0, 10000000]"); CLI11 puts the option's name in front.
+CLI::Validator integer_in(long long lo, long long hi);
+CLI::Validator one_of(const std::vector<std::string>& allowed);
+
+// Splits "a,b,c" into its non-empty names.
+std::vector<std::string> split_list(const std::string& list);
+std::string join(const std::vector<std::string>& v, const std::string& sep = ",");
+
+// Parses argv (after the program name) with the registered commands and runs
+// the one named; no command runs `run`. Help goes to stdout (exit 0); a usage
+// error is one line on stderr naming the option and what it allows (exit 2).
+int run_command_line(const std::vector<std::string>& args);
 
 }  // namespace lockstep::cli

@@ -36,6 +36,16 @@ std::vector<std::int32_t> WorldRun<T>::raw_state(int i) const {
   }
 }
 
+template <class T>
+std::vector<ContactSnapshot> WorldRun<T>::contacts() const {
+  auto d = [](const T& x) { return Num<T>::to_double(x); };
+  std::vector<ContactSnapshot> out;
+  out.reserve(world_.contacts().size());
+  for (const Contact<T>& c : world_.contacts())
+    out.push_back({c.a, c.b, {d(c.point.x), d(c.point.y), d(c.point.z)}, {d(c.n.x), d(c.n.y), d(c.n.z)}, d(c.penetration)});
+  return out;
+}
+
 template class WorldRun<Q16>;
 template class WorldRun<float>;
 template class WorldRun<double>;

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "lockstep/physics/contact.hpp"
+#include "lockstep/physics/integrate.hpp"
 #include "lockstep/physics/solver.hpp"
 #include "lockstep/world.hpp"
 
@@ -211,6 +212,40 @@ void World<T>::correct_positions() {
     const Contact<T>& c = contacts_[static_cast<std::size_t>(ci)];
     correct(c, Num<T>::abs(c.n.y) >= P_.support_normal_min);
   }
+  // eq 111: then every point of each pair, in the same order, pushed out of
+  // what it still penetrates by turning as well as moving its sides.
+  if (order_.empty()) return;
+  turn_.assign(bodies_.size(), Vec3<T>{});
+  for (int ci : order_) {
+    const Contact<T>& c = contacts_[static_cast<std::size_t>(ci)];
+    const auto ia = static_cast<std::size_t>(c.a), ib = static_cast<std::size_t>(c.b);
+    Body<T>& A = bodies_[ia];
+    Body<T>& B = bodies_[ib];
+    BodyView<T> va{A.p - corrected_from_[ia], turn_[ia], A.awake() ? A.inv_mass : T{}, A.R, A.awake() ? A.inv_inertia : Vec3<T>{}};
+    BodyView<T> vb{B.p - corrected_from_[ib], turn_[ib], B.awake() ? B.inv_mass : T{}, B.R, B.awake() ? B.inv_inertia : Vec3<T>{}};
+    if (va.inv_mass == T{} && vb.inv_mass == T{}) continue;
+    if (Num<T>::abs(c.n.y) >= P_.support_normal_min) {  // eq 110: only the upper side moves, if it can
+      BodyView<T>& upper = c.n.y > T{} ? va : vb;
+      BodyView<T>& lower = c.n.y > T{} ? vb : va;
+      if (upper.inv_mass > T{}) lower.inv_mass = T{}, lower.inv_inertia = Vec3<T>{};
+    }
+    std::size_t lo = static_cast<std::size_t>(ci), hi = lo + 1;
+    while (lo > 0 && contacts_[lo - 1].a == c.a && contacts_[lo - 1].b == c.b) --lo;
+    while (hi < contacts_.size() && contacts_[hi].a == c.a && contacts_[hi].b == c.b) ++hi;
+    for (std::size_t k = lo; k < hi; ++k) {
+      const Contact<T>& p = contacts_[k];
+      if (p.state.e > T{}) continue;  // a bouncing point separates by its rebound (eq 89)
+      correct_manifold_point(va, p.r1, vb, p.r2, p.n, p.penetration, P_.slop, P_.baumgarte);  // eq 111
+    }
+    A.p = corrected_from_[ia] + va.v;
+    B.p = corrected_from_[ib] + vb.v;
+    turn_[ia] = va.w;
+    turn_[ib] = vb.w;
+    check_faults(c.a, "position correction");
+  }
+  const T half = Num<T>::from_double(0.5);
+  for (std::size_t i = 0; i < bodies_.size(); ++i)
+    if (!(turn_[i] == Vec3<T>{})) bodies_[i].q = integrate_orientation(bodies_[i].q, turn_[i], half);  // eqs 7-10, a turn
 }
 
 }  // namespace lockstep

@@ -206,6 +206,17 @@ Json f_support_moved(In in, const std::string& p) {
                                       vec_at(in, "rest", p), q16_at(in, "distance", p))}};
 }
 
+// eq 111 through the engine's correct_manifold_point: one point of a pair
+// pushed out of its residual depth; a.v, a.w (b's) are the displacement (m)
+// and small turn (rad) so far, and come back updated.
+Json f_correct_manifold_point(In in, const std::string& p) {
+  View A = view_at(in, "a", p);
+  View B = view_at(in, "b", p);
+  correct_manifold_point(A, vec_at(in, "r1", p), B, vec_at(in, "r2", p), vec_at(in, "n", p),
+                         q16_at(in, "penetration", p), q16_at(in, "slop", p), q16_at(in, "percent", p));
+  return Json{{"a", velocities(A)}, {"b", velocities(B)}};
+}
+
 // The most points of one manifold: 8 ground corners or 9 samples of one SDF
 // volume (eq 93), as World<T>::solve_contacts passes them.
 constexpr int kManifoldPoints = 9;
@@ -540,6 +551,12 @@ const std::vector<Formula>& formulas() {
        {108},
        "max_abs((p + R * local) - rest) > distance",
        f_support_moved},
+      {"correct_manifold_point",
+       {111},
+       "d = penetration - dot((a.v + a.w x r1) - (b.v + b.w x r2), n); c = (d - slop) * percent; if c > 0 and "
+       "k = (86) at r1, r2 along n > 0: P = n * (c / k); a.v += P * a.inv_mass, a.w += (87)'s I_a^-1 (r1 x P); "
+       "b.v -= P * b.inv_mass, b.w -= I_b^-1 (r2 x P). a.v, a.w, b.v, b.w are displacements (m) and turns (rad)",
+       f_correct_manifold_point},
   };
   return all;
 }
@@ -771,6 +788,24 @@ std::vector<Case> cases_for(const std::string& fn, Rng& rng) {
       const V moved = p0 + V{rng.q16(-0.01, 0.01), rng.q16(-0.01, 0.01), rng.q16(-0.01, 0.01)};
       in = {{"p", to_json(k % 3 == 0 ? p0 : moved)}, {"R", to_json(rotation_matrix(q))}, {"local", to_json(local)},
             {"rest", to_json(rest)}, {"distance", to_json(P.wake_support_distance)}};
+    } else if (fn == "correct_manifold_point") {
+      // A resting pair: b's side immovable a third of the time (a support
+      // pair's lower side), displacements of millimetres, depths -1..+30 mm.
+      View A = random_view(rng);
+      View B = k % 3 == 0 ? immovable() : random_view(rng);
+      A.v = rng.vec(-0.005, 0.005);
+      A.w = rng.vec(-0.01, 0.01);
+      if (k % 3 != 0) B.v = rng.vec(-0.005, 0.005), B.w = rng.vec(-0.01, 0.01);
+      in = {{"a", view_json(A)},
+            {"b", view_json(B)},
+            {"r1", random_raw_vec(rng, -1, 1)},
+            {"r2", random_raw_vec(rng, -1, 1)},
+            {"n", to_json(normalize(V{rng.q16(-0.2, 0.2), Q16::from_int(1), rng.q16(-0.2, 0.2)}))},
+            {"penetration", to_json(rng.q16(-0.001, 0.03))},
+            {"slop", to_json(P.slop)},
+            {"percent", to_json(P.baumgarte)}};
+      add(in, k % 3 == 0 ? "b immovable (a support pair's lower side)" : "both sides move");
+      continue;
     } else if (fn == "wakes") {
       in = {{"v_n", to_json(rng.q16(-0.5, 0.2))}, {"penetration", to_json(rng.q16(0, 0.04))}};
     } else if (fn == "sdf_sample") {

@@ -82,6 +82,7 @@ Recording record(const Scene& scene, std::vector<std::unique_ptr<EngineRun>> eng
       const bool vs_base = e != b && !rec.engines[b].failed;
       t.frames.push_back(frame_stats(frame, now[e], vs_base ? &now[b] : nullptr, engines[e]->energy()));
       track_sleep(t, now[e], frame);
+      if (options.observe) options.observe(static_cast<int>(e), *engines[e]);
     }
   };
   compare_all(0);

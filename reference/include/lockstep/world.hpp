@@ -166,6 +166,7 @@ class World {
   std::vector<Vec3<T>> support_n_;    // per body: its support normal (4.1), zero if none
   std::vector<Vec3<T>> corrected_from_;  // per body: its position before this frame's correction (eq 89 order)
   std::vector<int> order_;            // eq 110: the pair contacts that correct, bottom up
+  std::vector<Vec3<T>> turn_;         // eq 111: per body, the turn (rad) this frame's correction gave it
   bool oriented_correction_ = false;  // eq 110's penetration (less what the stage moved) for pairs too
   T ground_y_{}, ground_e_{}, ground_mu_{};
   std::vector<T> sdf_e_, sdf_mu_;

@@ -35,6 +35,16 @@ BodySnapshot snapshot_of(const Body<T>& b) {
           b.asleep ? b.sleep_frame : -1};
 }
 
+// One contact the narrow phase found in the last step (docs/SPEC.md 7.2 step
+// 3), converted to double: body a against body b (b = -1: the ground, -2 - k:
+// SDF volume k); n points from b towards a; penetration > 0 is overlap (m).
+struct ContactSnapshot {
+  int a = 0, b = -1;
+  double point[3] = {0, 0, 0};
+  double normal[3] = {0, 0, 0};
+  double penetration = 0;
+};
+
 class EngineRun {
  public:
   virtual ~EngineRun() = default;
@@ -49,6 +59,10 @@ class EngineRun {
   virtual StageCounters counters() const = 0;
   // Raw Q16.16 state of body i (p, q, v, w: 13 int32) for the fixed engine; empty otherwise.
   virtual std::vector<std::int32_t> raw_state(int /*i*/) const { return {}; }
+  // Whether contacts() reports the engine's contacts (the CPU engines do).
+  virtual bool has_contacts() const { return false; }
+  // The contacts found in the last step, in the engine's order.
+  virtual std::vector<ContactSnapshot> contacts() const { return {}; }
 };
 
 // Engine names in a fixed order; "gpu" is present when the GPU engine is built
@@ -86,6 +100,8 @@ class WorldRun final : public EngineRun {
   double energy() const override { return world_.energy(); }
   StageCounters counters() const override { return world_.counters(); }
   std::vector<std::int32_t> raw_state(int i) const override;
+  bool has_contacts() const override { return true; }
+  std::vector<ContactSnapshot> contacts() const override;
   World<T>& world() { return world_; }
   const World<T>& world() const { return world_; }
 

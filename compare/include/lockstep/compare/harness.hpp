@@ -57,6 +57,9 @@ struct RecordOptions {
   int frames = -1;  // -1: scene.frames
   // Called after each frame with (frames done, frames total).
   std::function<void(int, int)> progress;
+  // Called for every engine still running at frame 0 and after each frame,
+  // with the engine's index and the engine (e.g. a ViewRecorder, view.hpp).
+  std::function<void(int, const EngineRun&)> observe;
 };
 
 // Steps every engine one frame at a time; after each frame compares each

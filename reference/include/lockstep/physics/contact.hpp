@@ -171,4 +171,23 @@ LS_HD void manifold_correction(Vec3<T>& pa, const Vec3<T>& pa0, Vec3<T>& pb, con
   baumgarte_correction(pa, pb, n, depth - dot(moved, n), inv_a, inv_b, slop, percent);  // eqs 63, 89
 }
 
+// eq 111: one point of a body pair's manifold pushed out of its residual
+// penetration, by translating and turning the two sides (non-linear
+// Gauss-Seidel on positions). `a.v`, `a.w` (and b's) hold the displacement
+// (m) and the small turn (rad) this stage has given each side so far, so
+// `penetration - n.(relative displacement at the point)` is the point's depth
+// now (first order); what exceeds `slop` is removed (times `percent`) by the
+// position impulse `c/k` along n (eq 86's k), applied as eq 87 applies an
+// impulse. A side that must not move has inv_mass 0 and inv_inertia 0.
+template <class T>
+LS_HD void correct_manifold_point(BodyView<T>& a, const Vec3<T>& r1, BodyView<T>& b, const Vec3<T>& r2, const Vec3<T>& n,
+                                  const T& penetration, const T& slop, const T& percent) {
+  const T now = penetration - dot(relative_velocity(a, r1, b, r2), n);
+  const T c = (now - slop) * percent;
+  if (!(c > T{})) return;
+  const T k = inverse_effective_mass(a, r1, b, r2, n);  // eq 86
+  if (!(k > T{})) return;
+  apply_impulse(a, r1, b, r2, n * (c / k));  // eq 87, on positions
+}
+
 }  // namespace lockstep

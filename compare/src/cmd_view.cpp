@@ -1,0 +1,103 @@
+// `lockstep view RUN... [--out FILE.html]`: the replay page of one or more
+// runs of one scene (trajectory CSVs written by `lockstep run`, with the run
+// record beside each): one self-contained HTML file (view.hpp).
+#include <algorithm>
+#include <cstdio>
+#include <memory>
+
+#include "commands.hpp"
+#include "lockstep/compare/report.hpp"
+#include "lockstep/compare/tolerances.hpp"
+#include "lockstep/compare/view.hpp"
+#include "lockstep/scene_json.hpp"
+
+namespace lockstep::cli {
+namespace {
+
+struct ViewArgs {
+  std::vector<std::string> runs;
+  std::string out, title, tolerances;
+  long long max_mb = 48;
+};
+
+int view_command(const ViewArgs& a) {
+  // Choose the stride from the runs' shapes before loading them.
+  int frames = 0, bodies = 0;
+  for (const std::string& path : a.runs) {
+    const compare::RunShape s = compare::run_shape(path);
+    frames = std::max(frames, s.written_frames - 1);
+    bodies = std::max(bodies, s.bodies);
+  }
+  const int stride = compare::view_stride(frames, bodies, static_cast<int>(a.runs.size()),
+                                          static_cast<std::size_t>(a.max_mb) << 20);
+  compare::ViewPage page;
+  page.stride = stride;
+  for (const std::string& path : a.runs) {
+    compare::LoadedRun loaded = compare::load_run(path, stride);
+    if (page.runs.empty()) {
+      page.scene = loaded.scene;
+    } else {
+      Scene s = loaded.scene;
+      s.frames = page.scene.frames;
+      if (const std::string diff = scene_difference(page.scene, s); !diff.empty())
+        throw std::invalid_argument("RUN '" + path + "' is a run of another scene than '" + a.runs.front() + "' (" + diff +
+                                    "); view compares runs of one scene");
+    }
+    page.runs.push_back(std::move(loaded.run));
+  }
+  page.title = a.title.empty() ? "lockstep view " + page.scene.name : a.title;
+  if (page.runs.size() > 1) {
+    compare::CompareTolerances tol = compare::tolerances_for(page.scene);
+    if (!a.tolerances.empty()) tol = compare::load_tolerances_file(a.tolerances, tol);
+    page.comparison = compare::compare_runs(page.runs, tol);
+  }
+  std::string out = a.out;
+  if (out.empty()) {
+    out = a.runs.size() == 1 ? a.runs.front() : "view-" + page.scene.name + ".html";
+    if (a.runs.size() == 1) {
+      if (out.size() > 4 && out.substr(out.size() - 4) == ".csv") out.resize(out.size() - 4);
+      out += ".html";
+    }
+  }
+  const std::string html = compare::view_html(page, compare::load_view_libraries());
+  compare::write_file(out, html);
+  const std::size_t kept = page.runs.front().frames.size();
+  std::printf("view: %s (%zu run%s of scene '%s', %zu bodies, %zu frames kept%s; %.2f MiB of trajectories as float32, "
+              "page %.2f MiB)\n",
+              out.c_str(), page.runs.size(), page.runs.size() == 1 ? "" : "s", page.scene.name.c_str(), page.scene.bodies.size(),
+              kept, stride == 1 ? "" : (", 1 written frame in " + std::to_string(stride)).c_str(),
+              static_cast<double>(compare::view_data_bytes(page)) / (1 << 20), static_cast<double>(html.size()) / (1 << 20));
+  if (page.comparison) {
+    const compare::ViewComparison& c = *page.comparison;
+    for (std::size_t r = 1; r < page.runs.size(); ++r)
+      std::printf("  %s parts from %s %s\n", page.runs[r].label.c_str(), page.runs[0].label.c_str(),
+                  c.parted_frame[r] < 0 ? "nowhere (within the tolerances on every kept frame)"
+                                        : ("at frame " + std::to_string(c.parted_frame[r]) + " (body " +
+                                           std::to_string(c.parted_body[r]) + ")").c_str());
+    if (!c.note.empty()) std::printf("  %s\n", c.note.c_str());
+  }
+  return 0;
+}
+
+std::function<int()> define(CLI::App& app) {
+  auto a = std::make_shared<ViewArgs>();
+  app.add_option("RUN", a->runs, "trajectory CSVs written by `lockstep run` (each with its FILE.run.json); two or more "
+                                 "runs of one scene are compared, the first as the baseline")->required();
+  app.add_option("--out", a->out, "the page (default: RUN with .html for one run, view-SCENE.html for several)");
+  app.add_option("--max-mb", a->max_mb, "MiB of trajectories the page holds at most; above, every k-th written frame")
+      ->check(integer_in(1, 4096))->capture_default_str();
+  app.add_option("--title", a->title, "the page's title (default: lockstep view SCENE)");
+  app.add_option("--tolerances", a->tolerances, "tolerances JSON file for the divergence marks (docs/COMPARE.md; default: "
+                                                "the scene's built-in ones)");
+  return [a] { return view_command(*a); };
+}
+
+const bool registered = register_command(
+    {"view", "the replay page of runs of one scene: boxes in 3D, charts, divergence (one HTML file, works offline)",
+     "  lockstep run stack5 --engine fixed --out fixed.csv --contacts\n"
+     "  lockstep run stack5 --engine float --out float.csv\n"
+     "  lockstep view fixed.csv float.csv --out stack5.html   # open stack5.html in a browser\n",
+     define});
+
+}  // namespace
+}  // namespace lockstep::cli

@@ -1,0 +1,158 @@
+#!/usr/bin/env python3
+"""The `lockstep` command line: every command answers --help with usage,
+options, defaults and an example; a bad option, a missing value or a bad number
+is one line on stderr naming the option and what it allows (exit 2); `run`
+writes CSV, JSON lines (parsed here), hashes and the run record, and --quiet
+prints one final line; `view` and `compare --report` write the replay page,
+whose data match the CSV and the harness.
+
+usage: cli_test.py LOCKSTEP WORKDIR
+"""
+import base64
+import csv
+import json
+import os
+import re
+import shutil
+import struct
+import subprocess
+import sys
+
+LOCKSTEP, WORK = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
+COMMANDS = ["accuracy", "certify", "compare", "run", "scenes", "vectors", "view"]
+failures = []
+
+
+def check(cond, what):
+    if not cond:
+        failures.append(what)
+        print("FAIL:", what)
+
+
+def run(*args, cwd=None):
+    return subprocess.run([LOCKSTEP, *args], capture_output=True, text=True, cwd=cwd or WORK, timeout=300)
+
+
+def page_data(path):
+    html = open(path, encoding="utf-8").read()
+    m = re.search(r'<script id="lockstep-data" type="application/json">(.*?)</script>', html, re.S)
+    return json.loads(m.group(1))
+
+
+def floats(b64):
+    raw = base64.b64decode(b64)
+    return struct.unpack("<%df" % (len(raw) // 4), raw)
+
+
+shutil.rmtree(WORK, ignore_errors=True)
+os.makedirs(WORK)
+
+# --help: usage, every option with its description, defaults, an example.
+top = run("--help")
+check(top.returncode == 0 and all(c in top.stdout for c in COMMANDS), "lockstep --help lists every command")
+for c in COMMANDS:
+    h = run(c, "--help")
+    check(h.returncode == 0, "%s --help exits 0" % c)
+    check("Usage: lockstep %s" % c in h.stdout, "%s --help shows its usage" % c)
+    check(re.search(r"Example:\n(  lockstep .*\n)*  lockstep %s " % c, h.stdout) is not None, "%s --help ends with an example of itself" % c)
+    check("Options:" in h.stdout and "--help" in h.stdout, "%s --help lists options" % c)
+h = run("run", "--help").stdout
+check("=fixed" in h and "=csv" in h and "=1" in h, "run --help shows the defaults of --engine, --format, --every")
+
+# Usage errors: one line, naming the option and what it allows; exit 2.
+for args, must in [
+    (["run", "--frames", "abc"], ["--frames", "'abc'", "integer in [0, 10000000]"]),
+    (["run", "--frames", "-5"], ["--frames", "'-5'", "integer in [0, 10000000]"]),
+    (["run", "--every", "0"], ["--every", "integer in [1, 1000000]"]),
+    (["run", "--frames"], ["--frames", "needs a value", "integer in [0, 10000000]"]),
+    (["run", "--bogus"], ["unknown option --bogus", "--engine"]),
+    (["run", "--engine", "quantum"], ["--engine", "'quantum'", "fixed, float, double, mp"]),
+    (["run", "--format", "xml"], ["--format", "csv, jsonl"]),
+    (["compare", "--engines", "fixed,nope", "--no-report"], ["--engines", "'nope'", "fixed"]),
+    (["compare", "--max-failures", "1e3"], ["--max-failures", "'1e3'", "integer in [0, 1000000]"]),
+    (["vectors", "frob", "dir"], ["ACTION", "'frob'", "generate, verify"]),
+    (["view"], ["RUN", "required"]),
+    (["view", "missing.csv"], ["missing.csv.run.json", "lockstep run"]),
+    (["accuracy", "--timing-runs", "0"], ["--timing-runs", "integer in [1, 1000]"]),
+    (["nope"], ["unknown command 'nope'", "run"]),
+    (["scenes", "a", "b"], ["unexpected argument 'b'", "it takes SCENE"]),
+    (["compare", "drop", "--engines", "fixed,float", "--baseline", "double", "--no-report"], ["--baseline", "'double'"]),
+]:
+    p = run(*args)
+    lines = p.stderr.strip().splitlines()
+    check(p.returncode == 2, "%s exits 2 (got %d)" % (args, p.returncode))
+    check(len(lines) == 1, "%s: one line on stderr (got %r)" % (args, p.stderr))
+    for m in must:
+        check(m in p.stderr, "%s: the error names %r (got %r)" % (args, m, p.stderr))
+
+# run: the summary line that scripts read (gpu/bench/schedule_table.py), the CSV, hashes and run record.
+p = run("run", "stack5", "--engine", "fixed", "--frames", "50", "--every", "10", "--out", "s.csv", "--no-progress")
+check(p.returncode == 0, "run stack5 exits 0")
+summary = re.match(r"scene stack5, engine fixed: 50 frames, 5 bodies, [0-9.]+ ms/step \(stepping only\), final hash "
+                   r"([0-9a-f]{16}), (all asleep at frame \d+|not all asleep)$", p.stdout.splitlines()[0])
+check(summary is not None, "run prints its summary line (got %r)" % p.stdout)
+rows = list(csv.DictReader(open(os.path.join(WORK, "s.csv"))))
+check(sorted({int(r["frame"]) for r in rows}) == [0, 10, 20, 30, 40, 50], "--every 10 writes frames 0, 10, ..., 50")
+hashes = dict(l.strip().split(",") for l in open(os.path.join(WORK, "s.csv.hashes")).readlines()[1:])
+record = json.load(open(os.path.join(WORK, "s.csv.run.json")))
+check(record["format"] == "lockstep-run" and record["frames_run"] == 50 and record["every"] == 10,
+      "the run record names its format, frames and stride")
+check(all(record["hash"][int(f)] == h for f, h in hashes.items()), "the run record's hashes are the .hashes file's")
+check(summary and record["hash"][50] == summary.group(1), "the run record's last hash is the final hash")
+
+# --quiet: one line (frames, ms/step, hash, all-asleep frame, worst penetration); on stderr with --out -.
+q = run("run", "drop", "--quiet", "--out", "d.csv")
+m = re.fullmatch(r"drop fixed: 300 frames, [0-9.]+ ms/step, hash ([0-9a-f]{16}), all asleep at (frame \d+|never), "
+                 r"worst penetration ([0-9.e+-]+) m\n", q.stdout)
+check(q.returncode == 0 and m is not None and q.stderr == "", "run --quiet prints one final line (got %r %r)" % (q.stdout, q.stderr))
+check(m is not None and float(m.group(3)) > 0, "drop's worst penetration is above 0 (the cube lands)")
+q2 = run("run", "drop", "--quiet", "--out", "-")
+check(q2.stdout.startswith("frame,body,") and q2.stderr.startswith("drop fixed: 300 frames"),
+      "run --quiet --out -: the trajectory alone on stdout, the line on stderr")
+
+# JSON lines through nlohmann: every line parses; the hash of each frame is the CSV run's.
+j = run("run", "stack5", "--frames", "50", "--format", "jsonl", "--out", "-", "--no-progress")
+frames = [json.loads(l) for l in j.stdout.splitlines()]
+check(len(frames) == 51 and all(len(f["bodies"]) == 5 for f in frames), "jsonl: 51 frames of 5 bodies")
+check(all(record["hash"][f["frame"]] == f["hash"] for f in frames), "jsonl hashes equal the CSV run's")
+raw = [json.loads(l) for l in run("run", "stack5", "--frames", "5", "--format", "jsonl", "--raw", "--out", "-").stdout.splitlines()]
+check(all(isinstance(x, int) for x in raw[-1]["bodies"][0]["p"]), "jsonl --raw writes integers")
+check(abs(raw[0]["bodies"][0]["p"][1] / 65536 - frames[0]["bodies"][0]["p"][1]) < 1e-9, "--raw / 2^16 is the decimal value")
+
+# view: the page's data are the CSV's states (as float32), its runs, and the hash comparison of two fixed runs.
+run("run", "stack5", "--frames", "50", "--out", "a.csv", "--contacts", "--no-progress")
+run("run", "stack5", "--frames", "50", "--out", "b.csv", "--no-progress")
+run("run", "stack5", "--frames", "50", "--engine", "double", "--out", "c.csv", "--no-progress")
+v = run("view", "a.csv", "c.csv", "b.csv", "--out", "v.html")
+check(v.returncode == 0 and "v.html (3 runs of scene 'stack5', 5 bodies, 51 frames kept" in v.stdout, "view reports the page (got %r %r)" % (v.stdout, v.stderr))
+d = page_data(os.path.join(WORK, "v.html"))
+check([r["label"] for r in d["runs"]] == ["a.csv", "c.csv", "b.csv"], "the page holds the runs in order")
+states = floats(d["runs"][1]["state"])
+rows_c = [r for r in csv.DictReader(open(os.path.join(WORK, "c.csv"))) if r["frame"] == "37"]
+got = states[(37 * 5 + 3) * 13:(37 * 5 + 3) * 13 + 13]
+want = [float(rows_c[3][k]) for k in ["px", "py", "pz", "qw", "qx", "qy", "qz", "vx", "vy", "vz", "wx", "wy", "wz"]]
+check(all(abs(g - w) <= 1e-6 * max(1, abs(w)) for g, w in zip(got, want)), "page state of body 3 at frame 37 = the CSV's")
+check(d["comparison"]["hash_run_a"] == 0 and d["comparison"]["hash_run_b"] == 2 and
+      d["comparison"]["first_hash_difference"] == -1, "the page compares the hashes of the two fixed runs: identical")
+check("0" in d["runs"][0]["contacts"] and "0" not in d["runs"][2]["contacts"], "contacts only where recorded (--contacts)")
+small = run("view", "a.csv", "--max-mb", "1", "--out", "one.html")
+check(small.returncode == 0 and os.path.exists(os.path.join(WORK, "one.html")), "view of one run")
+other = run("run", "drop", "--frames", "10", "--out", "drop.csv", "--no-progress")
+mix = run("view", "a.csv", "drop.csv")
+check(mix.returncode == 2 and "another scene" in mix.stderr, "view refuses runs of two scenes (got %r)" % mix.stderr)
+
+# compare --report: index.html beside the CSVs and SVGs; its parted frame is the harness's.
+cmp = run("compare", "bowl", "--engines", "fixed,double", "--frames", "100", "--report", "rep", "--no-progress")
+part = re.search(r"^fixed .* frame (\d+), body (\d+) ", cmp.stdout, re.M)
+check(part is not None, "the harness reports where fixed parts from double on bowl")
+d = page_data(os.path.join(WORK, "rep", "index.html"))
+check([r["label"] for r in d["runs"]] == ["double", "fixed"], "the baseline first")
+check(part and d["comparison"]["parted_frame"][1] == int(part.group(1)) and d["comparison"]["parted_body"][1] == int(part.group(2)),
+      "the page's parted frame and body are the harness's")
+for f in ["divergence.svg", "energy.svg", "sleep_timeline.svg", "frames.csv"]:
+    check(os.path.exists(os.path.join(WORK, "rep", f)), "the report still has " + f)
+
+if failures:
+    print("%d check(s) failed" % len(failures))
+    sys.exit(1)
+print("cli_test: all checks passed")

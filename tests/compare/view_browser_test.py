@@ -1,0 +1,209 @@
+#!/usr/bin/env python3
+"""The replay page in a real browser (headless Chromium): `lockstep compare
+bowl --report` and `lockstep view` pages load without console errors, draw one
+box per body and run, the slider moves the scene (screenshot pixels differ
+between frames), the divergence marker sits at the frame the harness reports,
+and a selected body's panel shows its state and recorded contacts.
+
+Exit 77 (ctest: skipped, shown as such) when no Chromium is installed; CI
+installs it (.ci/packages).
+
+usage: view_browser_test.py LOCKSTEP WORKDIR
+"""
+import json
+import os
+import re
+import shutil
+import struct
+import subprocess
+import sys
+import zlib
+
+LOCKSTEP, WORK = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
+WIDTH, HEIGHT, SIDE, BOTTOM = 1280, 800, 400, 130  # window; the side panel and the controls below the 3D view
+failures = []
+
+
+def check(cond, what):
+    if not cond:
+        failures.append(what)
+        print("FAIL:", what)
+
+
+def find_chromium():
+    for name in ["chromium", "chromium-browser", "google-chrome", "google-chrome-stable"]:
+        path = shutil.which(name)
+        if path:
+            return path
+    return None
+
+
+CHROMIUM = find_chromium()
+if not CHROMIUM:
+    print("SKIPPED: no chromium on PATH; the replay page's browser test needs it (apt-get install chromium; "
+          "CI installs it through .ci/packages)")
+    sys.exit(77)
+
+FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
+         "--hide-scrollbars", "--window-size=%d,%d" % (WIDTH, HEIGHT), "--virtual-time-budget=4000",
+         "--enable-logging=stderr", "--v=0", "--user-data-dir=" + os.path.join(WORK, "chromium-profile")]
+
+
+def chromium(*args):
+    p = subprocess.run([CHROMIUM, *FLAGS, *args], capture_output=True, text=True, timeout=180)
+    uncaught = [l for l in p.stderr.splitlines() if "CONSOLE" in l and ("Uncaught" in l or "Error" in l)]
+    check(not uncaught, "no console errors in Chromium's log (got %s)" % uncaught[:3])
+    return p
+
+
+def status(url):
+    """The page's #lockstep-status after load: frame, boxes drawn, markers, errors."""
+    p = chromium("--dump-dom", url)
+    m = re.search(r'<pre id="lockstep-status"[^>]*>(.*?)</pre>', p.stdout, re.S)
+    check(m is not None and m.group(1).strip(), "the page reports its status (%s; stderr %s)" % (url, p.stderr[-500:]))
+    if not m or not m.group(1).strip():
+        return {}, p.stdout
+    return json.loads(m.group(1).replace("&quot;", '"').replace("&amp;", "&")), p.stdout
+
+
+def png_pixels(path):
+    """(width, height, rows of RGB(A) bytes) of an 8-bit, non-interlaced PNG."""
+    data = open(path, "rb").read()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n", path
+    pos, idat, w = 8, b"", 0
+    while pos < len(data):
+        length, kind = struct.unpack(">I4s", data[pos:pos + 8])
+        body = data[pos + 8:pos + 8 + length]
+        if kind == b"IHDR":
+            w, h, depth, ctype, _, _, interlace = struct.unpack(">IIBBBBB", body)
+            assert depth == 8 and interlace == 0 and ctype in (2, 6), (depth, ctype, interlace)
+            bpp = 3 if ctype == 2 else 4
+        elif kind == b"IDAT":
+            idat += body
+        pos += 12 + length
+    raw = zlib.decompress(idat)
+    stride = w * bpp
+    rows, prev = [], bytearray(stride)
+    for y in range(h):
+        f = raw[y * (stride + 1)]
+        line = bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
+        for x in range(stride):
+            a = line[x - bpp] if x >= bpp else 0
+            b = prev[x]
+            c = prev[x - bpp] if x >= bpp else 0
+            if f == 1: line[x] = (line[x] + a) & 255
+            elif f == 2: line[x] = (line[x] + b) & 255
+            elif f == 3: line[x] = (line[x] + (a + b) // 2) & 255
+            elif f == 4:
+                pa, pb, pc = abs(b - c), abs(a - c), abs(a + b - 2 * c)
+                line[x] = (line[x] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
+        rows.append(bytes(line))
+        prev = line
+    return w, h, bpp, rows
+
+
+def view_region(path):
+    """The 3D view's pixels (left of the side panel, above the controls), RGB."""
+    w, h, bpp, rows = png_pixels(path)
+    out = []
+    for y in range(0, h - BOTTOM):
+        r = rows[y]
+        out.append(bytes(r[i] for x in range(0, w - SIDE) for i in range(x * bpp, x * bpp + 3)))
+    return out
+
+
+def differing(a, b):
+    n = 0
+    for ra, rb in zip(a, b):
+        for i in range(0, len(ra), 3):
+            if ra[i:i + 3] != rb[i:i + 3]:
+                n += 1
+    return n
+
+
+shutil.rmtree(WORK, ignore_errors=True)
+os.makedirs(WORK)
+run = lambda *a: subprocess.run([LOCKSTEP, *a], capture_output=True, text=True, cwd=WORK, timeout=600)
+
+# A comparison whose engines part: bowl (20 cubes poured into an SDF bowl), fixed against double.
+cmp = run("compare", "bowl", "--engines", "fixed,double", "--frames", "120", "--report", "bowl", "--no-progress")
+part = re.search(r"^fixed .* frame (\d+), body (\d+) ", cmp.stdout, re.M)
+check(part is not None, "the harness reports where fixed parts from double (got %r)" % cmp.stdout[-600:])
+parted = int(part.group(1)) if part else -1
+page = "file://" + os.path.join(WORK, "bowl", "index.html")
+
+st, dom = status(page + "#frame=0")
+check(st.get("errors") == [], "bowl page: no errors (got %s)" % st.get("errors"))
+check(st.get("boxes") == 20 * 2, "bowl page draws 20 boxes for each of 2 runs (got %s)" % st.get("boxes"))
+markers = [m for m in st.get("markers", []) if m["kind"] == "parted"]
+check([m["frame"] for m in markers] == [parted], "the divergence marker sits at the harness's frame %d (got %s)" % (parted, markers))
+dom_marker = re.search(r'class="marker parted"[^>]*data-frame="(\d+)"', dom)
+check(dom_marker is not None and int(dom_marker.group(1)) == parted, "the slider's marker element carries frame %d" % parted)
+
+shots = {}
+for f in [0, 100]:
+    path = os.path.join(WORK, "bowl-%d.png" % f)
+    chromium("--screenshot=" + path, page + "#frame=%d" % f)
+    check(os.path.exists(path), "screenshot at frame %d" % f)
+    if os.path.exists(path):
+        shots[f] = view_region(path)
+if len(shots) == 2:
+    colours = {shots[0][y][x:x + 3] for y in range(0, len(shots[0]), 7) for x in range(0, len(shots[0][0]), 21)}
+    check(len(colours) > 8, "the 3D view at frame 0 is drawn (%d colours sampled)" % len(colours))
+    n = differing(shots[0], shots[100])
+    print("pixels of the 3D view differing between frames 0 and 100: %d" % n)
+    check(n > 2000, "the slider moves the scene: frames 0 and 100 differ in %d pixels (want > 2000)" % n)
+
+# `lockstep view` of three runs of stack5 (two fixed, one float), contacts recorded on the first.
+for name, engine, extra in [("a.csv", "fixed", ["--contacts"]), ("b.csv", "float", []), ("c.csv", "fixed", [])]:
+    run("run", "stack5", "--engine", engine, "--frames", "60", "--out", name, "--no-progress", *extra)
+v = run("view", "a.csv", "b.csv", "c.csv", "--out", "stack5.html")
+check(v.returncode == 0, "lockstep view exits 0 (%s)" % v.stderr)
+st, dom = status("file://" + os.path.join(WORK, "stack5.html") + "#frame=10&mode=side&select=0,2")
+check(st.get("errors") == [], "stack5 page: no errors (got %s)" % st.get("errors"))
+check(st.get("boxes") == 5 * 3, "stack5 page draws 5 boxes for each of 3 runs (got %s)" % st.get("boxes"))
+check(st.get("frame") == 10, "#frame=10 opens frame 10 (got %s)" % st.get("frame"))
+info = re.search(r'<div id="body-info">(.*?)</div>', dom, re.S)
+text = info.group(1) if info else ""
+check("a.csv, body 2 at frame 10" in text and "position" in text and "angular vel." in text,
+      "the selected body's panel shows its state (got %r)" % text[:300])
+check(re.search(r"contacts +\d+", text) is not None, "the panel lists the recorded contacts (got %r)" % text[-300:])
+check("hashes of a.csv and c.csv are identical on all 61 frames" in dom, "the page names the two fixed runs' hash agreement")
+# A click on the middle of the second column (side by side) picks a body of the second run; one on the sky none.
+for pick, want in [("0.5,0.55", "b.csv, body "), ("0.5,0.02", "Click a body")]:
+    st, dom = status("file://" + os.path.join(WORK, "stack5.html") + "#frame=10&mode=side&pick=" + pick)
+    info = re.search(r'<div id="body-info">(.*?)</div>', dom, re.S)
+    check(info is not None and info.group(1).startswith(want), "#pick=%s shows %r (got %r)" % (pick, want, info and info.group(1)[:60]))
+
+# Playback: with #play the page advances on its own (virtual time in headless Chromium).
+st, _ = status(page + "#frame=0&play")
+check(st.get("frame", 0) > 0, "#play advances the frame (got %s)" % st.get("frame"))
+
+# 10,000 bodies (a written CSV and run record of 3 frames, no engine run): one instanced box each.
+n, frames = 10000, 3
+bodies = [{"half_extents": [0.2, 0.2, 0.2], "position": [0.6 * (i % 100), 1.0, 0.6 * (i // 100)]} for i in range(n)]
+scene = {"format": "lockstep-scene", "version": 1, "name": "grid10k", "frames": frames, "bodies": bodies}
+with open(os.path.join(WORK, "grid.json"), "w") as f:
+    json.dump(scene, f)
+g = run("run", "grid.json", "--frames", "0", "--out", "grid.csv", "--no-progress")  # the run record's scene, as lockstep writes it
+record = json.load(open(os.path.join(WORK, "grid.csv.run.json")))
+record.update(frames_run=frames, hash=[], energy=[], asleep=[])
+with open(os.path.join(WORK, "grid.csv.run.json"), "w") as f:
+    json.dump(record, f)
+with open(os.path.join(WORK, "grid.csv"), "w") as f:
+    f.write("frame,body,px,py,pz,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz,asleep\n")
+    for fr in range(frames + 1):
+        for i, b in enumerate(bodies):
+            p = b["position"]
+            f.write("%d,%d,%g,%g,%g,1,0,0,0,0,0,0,0,0,0,%d\n" % (fr, i, p[0], p[1] - 0.1 * fr, p[2], fr == frames))
+v = run("view", "grid.csv", "--out", "grid.html")
+check(v.returncode == 0, "view of 10,000 bodies (%s)" % v.stderr)
+st, _ = status("file://" + os.path.join(WORK, "grid.html") + "#frame=2&bench=20")
+check(st.get("errors") == [] and st.get("boxes") == n, "10,000 bodies: no errors, 10,000 boxes (got %s, %s)" %
+      (st.get("errors"), st.get("boxes")))
+print("10,000 bodies: %s" % json.dumps(st.get("bench")))
+
+if failures:
+    print("%d check(s) failed" % len(failures))
+    sys.exit(1)
+print("view_browser_test: all checks passed")
