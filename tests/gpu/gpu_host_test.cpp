@@ -95,9 +95,12 @@ TEST(GpuHost, StacksMatchWorldFloatBitForBit) {
   heavy.mass = 1.3;
   heavy.position = {-0.125, 0.69, -0.125};
   heavy_on_light.bodies = {light, heavy};
-  // The oriented model: a column of cubes turned about y and tilted,
-  // off-centre, dropped with gaps: the pairs' points land at different
-  // depths, so eq 111 turns the sides as well as moving them. (On the AABB
+  // The oriented model: a column of cubes turned about y, tilted (0.06 rad,
+  // alternately) and off-centre, 6 cm apart: tilted neighbours start a
+  // couple of centimetres into each other at some corners, and the pairs'
+  // points are at different depths, so eq 111 turns the sides as well as
+  // moving them from frame 1 (without the turn the GPU engine parts from
+  // World<float> at frame 1 here). (On the AABB
   // model the GPU engine parts from World<float> on this column at frame
   // 62, host build, 2026-11-25: not eq 111's, which is the oriented
   // model's only.)
