@@ -99,6 +99,7 @@ class Pipeline final : public PipelineBase {
       rest_point_.resize(kMaxRests * n + 1);
       p_world_.resize(n + 1);
       p_pairs_.resize(n + 1);
+      turn_slot_.resize(n + 1);
     }
     fx_ = s.fx;
     body_.pos = pos_.data(); body_.rot = rot_.data(); body_.aabb = aabb_.data(); body_.half = half_.data();
@@ -287,12 +288,13 @@ class Pipeline final : public PipelineBase {
                    // [3]: bodies whose settled velocity is not final yet (settling batches)
   // The oriented-box model (oriented_stages.hpp): per body its growth (eqs
   // 97, 107) and eq 108's records; per entry the pair manifolds (double-
-  // buffered by frame parity, eq 96) and the eq 110 sweeps' positions; per
-  // slot the readiness and the sweeps of eq 109; per body the sweeps of eq 108.
+  // buffered by frame parity, eq 96) and the eq 110-111 sweeps' positions
+  // and eq 111's turns; per slot the readiness and the sweeps of eq 109; per
+  // body the sweeps of eq 108.
   bool oriented_ = false;
   Buf<float> grow_;
   Buf<PairManifold> man_[2];
-  Buf<F4> before_[2], p_world_, p_pairs_;
+  Buf<F4> before_[2], turn_[2], p_world_, p_pairs_, turn_slot_;
   Buf<int> ready_, sleep_sw_[2], wake_sw_[2];
   Buf<int> rest_count_, rest_body_;
   Buf<F4> rest_local_, rest_point_;
@@ -547,8 +549,9 @@ void Pipeline<B>::step() {
                          sweep, p_tmp_.data(), q_tmp_.data(), ctr_.data()};
     ci.p_world = oriented_ ? p_world_.data() : nullptr;
     be_.for_n(n_active, ci);
-    if (oriented_) {  // eq 110: the pairs bottom-up (sweeps), then eqs 2, 7-10
+    if (oriented_) {  // eqs 110, 111: the pairs bottom-up (sweeps), then eqs 2, 7-10
       const F4* corrected = p_world_.data();
+      const F4* turn = nullptr;
       if (contacts && n_awake > 0) {
         for (auto& buf : before_) buf.resize(entries);
         be_.fill_zero(before_[0].data(), entries);
@@ -557,9 +560,21 @@ void Pipeline<B>::step() {
                                            before_[in].data(), before_[out].data(), p_pairs_.data(), changed});
         });
         (void)r;
-        corrected = p_pairs_.data();
+        // eq 111: the pairs' points again in the same order (sweeps), from
+        // the positions after eq 110 (p_pairs_) into p_world_ and turn_slot_.
+        for (auto& buf : turn_) buf.resize(entries);
+        be_.fill_zero(before_[0].data(), entries);
+        be_.fill_zero(turn_[0].data(), entries);
+        const int r2 = sweep_until_fixed(static_cast<int>(entries) + 2, [&](int in, int out, int* changed) {
+          be_.for_n(n_active, PairTurnK{active, body_, sc_, nl, man, slot_of_[par].data(), p_pairs_.data(),
+                                        before_[in].data(), turn_[in].data(), before_[out].data(), turn_[out].data(),
+                                        p_world_.data(), turn_slot_.data(), changed});
+        });
+        (void)r2;
+        corrected = p_world_.data();
+        turn = turn_slot_.data();
       }
-      be_.for_n(n_active, IntegrateK{active, body_, sc_, nl, contacts && n_awake > 0 ? man : nullptr, corrected,
+      be_.for_n(n_active, IntegrateK{active, body_, sc_, nl, contacts && n_awake > 0 ? man : nullptr, corrected, turn,
                                      p_tmp_.data(), q_tmp_.data(), ctr_.data()});
     }
   }

@@ -2,6 +2,7 @@
 // pipeline and per-element functions as the CUDA kernels, in host loops.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <string>
@@ -94,7 +95,26 @@ TEST(GpuHost, StacksMatchWorldFloatBitForBit) {
   heavy.mass = 1.3;
   heavy.position = {-0.125, 0.69, -0.125};
   heavy_on_light.bodies = {light, heavy};
-  for (const Scene& s : {tower(20, 0.0), tower(10, 0.1), scene("stack5", model), heavy_on_light}) {
+  // The oriented model: a column of cubes turned about y, tilted (0.06 rad,
+  // alternately) and off-centre, 6 cm apart: tilted neighbours start a
+  // couple of centimetres into each other at some corners, and the pairs'
+  // points are at different depths, so eq 111 turns the sides as well as
+  // moving them from frame 1 (without the turn the GPU engine parts from
+  // World<float> at frame 1 here). (On the AABB
+  // model the GPU engine parts from World<float> on this column at frame
+  // 62, host build, 2026-11-25: not eq 111's, which is the oriented
+  // model's only.)
+  Scene twisted = tower(8, 0.06);
+  twisted.name = "twisted_tower8";
+  for (std::size_t k = 0; k < twisted.bodies.size(); ++k) {
+    const double a = 0.35 * static_cast<double>(k) + 0.1, tilt = 0.03 * ((k % 2 == 0) ? 1.0 : -1.0);
+    BodyDesc& b = twisted.bodies[k];
+    b.position.x = 0.04 * std::sin(2.0 * a);
+    b.position.z = 0.03 * std::cos(3.0 * a);
+    b.orientation = {std::cos(a / 2.0), tilt * std::cos(a), std::sin(a / 2.0), tilt * std::sin(a)};
+  }
+  for (const Scene& s : {tower(20, 0.0), tower(10, 0.1), scene("stack5", model), heavy_on_light, twisted}) {
+    if (s.name == twisted.name && model != PairModel::kOrientedBox) continue;
     SCOPED_TRACE(s.name);
     const SideBySide r = expect_world_float_bits(s);
     EXPECT_EQ(r.gpu.normal_impulses, r.world.normal_impulses);
