@@ -1310,7 +1310,7 @@ struct CorrectIntegrateK {
       else baumgarte_correction(dummy, p, c.n, c.penetration, inv_a, inv_b, slop, percent);
       if (lower || !j_awake) ++corrections;
     }
-    if (sc.ground_on) {  // the deepest corner (first on ties) carries the correction
+    if (sc.ground_on) {  // the deepest corner (first on ties, a resting one before a bouncing one) carries the correction
       const Mat3<float> R = rotation_matrix(q0);
       const Vec3<float> h = xyz(ro(b.half + i));
       int deepest = -1;
@@ -1319,7 +1319,13 @@ struct CorrectIntegrateK {
         Vec3<float> corner;
         const float depth = ground_corner_depth(p0, R, h, c, sc.ground_y, corner);
         if (!(depth > -tol)) continue;
-        if (deepest < 0 || depth > deepest_depth) { deepest = c; deepest_depth = depth; }
+        // On ties a corner that does not bounce first (World's tie rule, eq 89).
+        if (deepest < 0 || depth > deepest_depth ||
+            (depth == deepest_depth && ro(&imm[k * sc.imm_stride() + deepest].b).y > 0.0f &&
+             !(ro(&imm[k * sc.imm_stride() + c].b).y > 0.0f))) {
+          deepest = c;
+          deepest_depth = depth;
+        }
       }
       if (deepest >= 0 && !(ro(&imm[k * sc.imm_stride() + deepest].b).y > 0.0f) && inv_self != 0.0f) {
         const Vec3<float> up{0.0f, Num<float>::from_int(1), 0.0f};

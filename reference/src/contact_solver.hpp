@@ -147,8 +147,21 @@ void World<T>::correct_positions() {
   // it out as well adds m g penetration of energy per bounce, which kept a
   // cube bouncing at 0.6 m/s for ever. `lower_fixed`: eq 110's support pair,
   // whose lower side does not move unless the upper one cannot.
+  // A ground point that bounces is not corrected, unless another of the
+  // body's ground points is as deep and does not bounce (eq 89's tie rule:
+  // which tied corner is "first" depends on the corner numbering, which a
+  // mirror image permutes; this keeps the choice sign-symmetric).
+  auto tied_point_rests = [&](const Contact<T>& c) {
+    if (c.b != -1) return false;
+    const std::size_t at = static_cast<std::size_t>(&c - contacts_.data());
+    for (std::size_t k = at; k-- > 0 && contacts_[k].a == c.a && contacts_[k].b == -1;)
+      if (contacts_[k].penetration == c.penetration && !(contacts_[k].state.e > T{})) return true;
+    for (std::size_t k = at + 1; k < contacts_.size() && contacts_[k].a == c.a && contacts_[k].b == -1; ++k)
+      if (contacts_[k].penetration == c.penetration && !(contacts_[k].state.e > T{})) return true;
+    return false;
+  };
   auto correct = [&](const Contact<T>& c, bool lower_fixed) {
-    if (!c.corrects || c.state.e > T{}) return;
+    if (!c.corrects || (c.state.e > T{} && !tied_point_rests(c))) return;
     Body<T>& A = bodies_[static_cast<std::size_t>(c.a)];
     T inv_a = A.awake() ? A.inv_mass : T{};
     Vec3<T> ground_p;
