@@ -234,12 +234,10 @@ void check_pile(const std::string& engine, const Pile& pile) {
   EXPECT_LE(rest.pair, kRestDepthTol) << summary.str();
 }
 
-std::vector<std::string> engines_for(const Scene& s) { return engine_names_for(s); }
-
 class PileTest : public ::testing::TestWithParam<std::string> {
  protected:
   void run(const Pile& p) {
-    const std::vector<std::string> names = engines_for(p.scene);
+    const std::vector<std::string> names = engine_names_for(p.scene);
     if (std::find(names.begin(), names.end(), GetParam()) == names.end())
       GTEST_SKIP() << GetParam() << " does not run this scene: " << engine_limitation(GetParam(), p.scene);
     check_pile(GetParam(), p);
