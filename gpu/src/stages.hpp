@@ -221,6 +221,11 @@ struct SceneConsts {
   int n_large = 0;
   float relaxation = 1.0f;
   bool oriented = false;  // the oriented-box pair model (docs/SPEC.md 2.4, eqs 100-110); false: the source's AABB model
+  const float* grow = nullptr;  // oriented-box model: per body, its growth this frame (eqs 97, 107); null: AABB model
+  // eqs 97, 107: body i's tolerance for ground corners and SDF samples.
+  LS_HD float immovable_tol(int i) const {
+    return grow != nullptr ? immovable_tolerance(ro(grow + i), half_tol, P.contact_tolerance) : P.contact_tolerance;
+  }
   // Contacts with immovable things per active body: 8 ground corners (when
   // ground_on), then 9 samples per SDF volume.
   LS_HD int ground_slots() const { return ground_on ? 8 : 0; }
@@ -715,7 +720,8 @@ struct ContactsK {
     const BodyView<float> self0 = dynamic_view(v0, w0, pi4.w, R, xyz(in4));
     BodyView<float> self = self0;  // warm-started velocity
     const float e_self = h4.w, mu_self = in4.w;
-    const float tol = sc.P.contact_tolerance, min_up = sc.P.support_normal_min, slop = sc.P.slop;
+    const float min_up = sc.P.support_normal_min, slop = sc.P.slop;
+    const float itol = sc.immovable_tol(i);  // eqs 97, 107
     const bool had = prev.had(i);
     const int prev_slot = had ? ro(prev.slot_of + i) : 0;
     const int stride = sc.imm_stride();
@@ -744,7 +750,7 @@ struct ContactsK {
       for (int c = 0; c < 8; ++c) {
         Vec3<float> corner;
         const float depth = ground_corner_depth(p, R, h, c, sc.ground_y, corner);
-        if (!(depth > -tol)) continue;
+        if (!(depth > -itol)) continue;
         ++ground_contacts;
         if (depth > -slop && up.y >= min_up) add_support(kStaticSupport, up);
         mask |= 1 << c;
@@ -755,7 +761,7 @@ struct ContactsK {
     for (int v = 0; v < sc.n_sdf; ++v) {
       const F4 mat = sc.sdf_material[v];
       for (int s = 0; s < 9; ++s) {
-        const SdfContact<float> c = sdf_sample_contact(p, R, h, sc.sdf[v], s, tol);
+        const SdfContact<float> c = sdf_sample_contact(p, R, h, sc.sdf[v], s, itol);
         const int g = (k * sc.n_sdf + v) * 9 + s;
         const F4 c0 = f4(c.n, c.penetration), c1 = f4(c.point, c.hit ? 1.0f : 0.0f);
         sdf_c0[g] = c0;
@@ -930,7 +936,7 @@ struct SolveK {
     const Vec3<float> I = xyz(ro(b.inert + i));
     const Vec3<float> v0 = xyz(coloured ? vin[i] : ro(vin + i)), w0 = xyz(coloured ? win[i] : ro(win + i));
     BodyView<float> self = dynamic_view(v0, w0, pi4.w, R, I);
-    const float tol = sc.P.contact_tolerance;
+    const float tol = sc.immovable_tol(i);  // eqs 97, 107
     const int stride = sc.imm_stride();
     SolveCounts counts;
     const Vec3<float> up{0.0f, Num<float>::from_int(1), 0.0f};
@@ -1293,7 +1299,7 @@ struct CorrectIntegrateK {
     b.vel[i] = f4(vf, 0.0f);
     b.ang[i] = f4(wf, 0.0f);
     unsigned corrections = 0;
-    const float slop = sc.P.slop, percent = sc.P.baumgarte, tol = sc.P.contact_tolerance;
+    const float slop = sc.P.slop, percent = sc.P.baumgarte, tol = sc.immovable_tol(i);  // eqs 97, 107
     // eq 89's order: the body pairs first, then the ground and SDF contacts
     // with their penetration less what the pairs moved this body along n.
     const int beg = lists.begin(k), end = sc.oriented ? beg : lists.end(k);  // oriented: eq 110 (PairCorrectK)

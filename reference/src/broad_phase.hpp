@@ -27,8 +27,18 @@ template <class T>
 void World<T>::broad_phase() {
   using namespace broadphase;
   pairs_.clear();
-  if (!scene_.effects.contacts || bodies_.size() < 2) return;
   const std::size_t n = bodies_.size();
+  // Every awake body's growth: half the contact tolerance (eq 97) and, with
+  // the oriented-box pair model, its speculative reach (eq 107). The
+  // narrowphase grows the pair test and the ground and SDF tolerances by it.
+  const T half_tol = P_.contact_tolerance * Num<T>::from_double(0.5);
+  const bool oriented = scene_.pair_contacts == PairModel::kOrientedBox;
+  grow_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Body<T>& b = bodies_[i];
+    grow_[i] = oriented && b.awake() ? half_tol + speculative_reach(b.v, b.w, b.half, P_.dt) : half_tol;  // eq 107
+  }
+  if (!scene_.effects.contacts || n < 2) return;
   // A pair needs an awake side (maybe_pair): with every body asleep or static
   // there is none, and the grid is not built (a pile at rest costs nothing here).
   bool any_awake = false;
@@ -37,16 +47,7 @@ void World<T>::broad_phase() {
     counters_.broadphase_bodies += n;
     return;
   }
-  // Boxes grown by half the contact tolerance (eq 97) and, with the
-  // oriented-box pair model, by the body's speculative reach (eq 107), as the
-  // narrowphase grows them.
-  const T half_tol = P_.contact_tolerance * Num<T>::from_double(0.5);
-  const bool oriented = scene_.pair_contacts == PairModel::kOrientedBox;
-  grow_.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const Body<T>& b = bodies_[i];
-    grow_[i] = oriented && b.awake() ? half_tol + speculative_reach(b.v, b.w, b.half, P_.dt) : half_tol;  // eq 107
-  }
+  // Boxes grown by growth_ (eqs 97, 107), as the narrowphase grows them.
   std::vector<Cell> cmin(n), cmax(n);
   std::vector<T> min_x(n), max_x(n);
   struct Entry { std::uint64_t key; int body; };

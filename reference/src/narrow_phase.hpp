@@ -77,6 +77,9 @@ void World<T>::narrow_phase() {
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     const Body<T>& b = bodies_[i];
     if (!b.awake()) continue;  // 7.3
+    // eqs 97, 107: ground corners and SDF samples are speculative contacts
+    // within the contact tolerance plus, oriented-box model, the body's reach.
+    const T reach_tol = oriented ? immovable_tolerance(grow_[i], half_tol, P_.contact_tolerance) : P_.contact_tolerance;
     if (scene_.effects.ground && scene_.ground.present) {
       // eqs 44-46 refined by eq 84: every corner below the plane, or above it by
       // less than contact_tolerance (eq 97), is a contact point (a flat cube gets its 4 bottom corners, an edge 2, a corner 1),
@@ -87,7 +90,7 @@ void World<T>::narrow_phase() {
       for (int k = 0; k < 8; ++k) {
         Vec3<T> corner;
         const T depth = ground_corner_depth(b.p, b.R, b.half, k, ground_y_, corner);  // eq 84
-        if (!(depth > -P_.contact_tolerance)) continue;  // eq 97: speculative within the tolerance
+        if (!(depth > -reach_tol)) continue;  // eq 97: speculative within the tolerance (and reach, eq 107)
         Contact<T> c;
         c.a = static_cast<int>(i);
         c.b = -1;
@@ -113,7 +116,7 @@ void World<T>::narrow_phase() {
         const int first = static_cast<int>(contacts_.size());
         int deepest = -1;
         for (int s = 0; s < 9; ++s) {
-          const SdfContact<T> sc = sdf_sample_contact(b.p, b.R, b.half, g, s, P_.contact_tolerance);  // eqs 33-37, 97
+          const SdfContact<T> sc = sdf_sample_contact(b.p, b.R, b.half, g, s, reach_tol);  // eqs 33-37, 97, 107
           if (!sc.hit) continue;
           Contact<T> c;
           c.a = static_cast<int>(i);

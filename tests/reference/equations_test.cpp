@@ -193,10 +193,16 @@ TEST(ContactTest, Eq53ImpulseReflectsWithRestitution) {
 TEST(ContactTest, Eq97SpeculativeContactClosesTheGapOnly) {
   EXPECT_DOUBLE_EQ(contact_target_velocity(-0.005, 0.0, -0.6, 9.81, 1.0 / 60, 60.0), -0.3);
   // A bouncing contact that closes its gap this frame bounces now, with the
-  // speed left after rising back to the gap: sqrt((e v)^2 - 2 g gap).
-  EXPECT_NEAR(contact_target_velocity(-0.005, 0.8, -3.0, 9.81, 1.0 / 60, 60.0), std::sqrt(2.4 * 2.4 - 2 * 9.81 * 0.005), 1e-12);
+  // speed it would have after falling through the gap to the surface,
+  // bouncing there and rising back: sqrt(e^2 (v^2 + 2 g gap) - 2 g gap).
+  auto from_gap = [](double e, double v, double g, double gap) {
+    return std::sqrt(e * e * (v * v + 2 * g * gap) - 2 * g * gap);
+  };
+  EXPECT_NEAR(contact_target_velocity(-0.005, 0.8, -3.0, 9.81, 1.0 / 60, 60.0), from_gap(0.8, 3.0, 9.81, 0.005), 1e-12);
   EXPECT_DOUBLE_EQ(contact_target_velocity(-0.005, 0.8, -3.0, 0.0, 1.0 / 60, 60.0), 2.4);  // no gravity: e v
-  EXPECT_NEAR(contact_target_velocity(-0.009, 0.8, -0.6, 9.81, 1.0 / 60, 60.0), std::sqrt(0.48 * 0.48 - 2 * 9.81 * 0.009), 1e-12);
+  EXPECT_DOUBLE_EQ(contact_target_velocity(-0.04, 1.0, -3.0, 9.81, 1.0 / 60, 60.0), 3.0);  // elastic: v, whatever the gap
+  EXPECT_NEAR(contact_target_velocity(-0.009, 0.8, -0.6, 9.81, 1.0 / 60, 60.0), from_gap(0.8, 0.6, 9.81, 0.009), 1e-12);
+  EXPECT_NEAR(contact_target_velocity(-0.08, 0.5, -6.0, 9.81, 1.0 / 60, 60.0), from_gap(0.5, 6.0, 9.81, 0.08), 1e-12);  // a reach-sized gap (eq 107)
   EXPECT_DOUBLE_EQ(contact_target_velocity(-0.009, 0.8, -0.6, 50.0, 1.0 / 60, 60.0), 0.0);  // too slow to rise back: lands
   EXPECT_DOUBLE_EQ(contact_target_velocity(-0.009, 0.8, -0.3, 9.81, 1.0 / 60, 60.0), -0.54);  // too slow to reach it
   double acc = 0;

@@ -200,6 +200,11 @@ Json f_speculative_reach(In in, const std::string& p) {
   return Json{{"reach", to_json(speculative_reach(vec_at(in, "v", p), vec_at(in, "w", p), vec_at(in, "h", p),
                                                   q16_at(in, "dt", p)))}};
 }
+// eqs 97, 107: the ground and SDF tolerance of a body from its growth.
+Json f_immovable_tolerance(In in, const std::string& p) {
+  return Json{{"tolerance", to_json(immovable_tolerance(q16_at(in, "growth", p), q16_at(in, "half_tol", p),
+                                                        q16_at(in, "tol", p)))}};
+}
 // eq 108: has the supporter carried the support point beyond the distance?
 Json f_support_moved(In in, const std::string& p) {
   return Json{{"moved", support_moved(vec_at(in, "p", p), mat_at(in, "R", p), vec_at(in, "local", p),
@@ -516,8 +521,9 @@ const std::vector<Formula>& formulas() {
        {97},
        "the target normal velocity of eq 94: v = min(v_n0, 0); touching (penetration >= 0): -(e * v); "
        "else gap = -penetration; if not e > 0 or not -(v * dt) > gap (the gap does not close this frame): "
-       "penetration * inv_dt; else ev = -(e * v), rise = sqrt(max(g_n, 0) * gap * 2); 0 if not ev > rise; "
-       "ev if ev > 128; else sqrt((ev - rise) * (ev + rise)), i.e. sqrt((e v)^2 - 2 g_n gap) without the "
+       "penetration * inv_dt; else ev = -(e * v), rise = sqrt(max(g_n, 0) * gap * 2 * (1 - e * e)); 0 if not "
+       "ev > rise; ev if ev > 128; else sqrt((ev - rise) * (ev + rise)), i.e. sqrt(e^2 (v^2 + 2 g_n gap) - "
+       "2 g_n gap), the bounce at the surface risen back to the gap, without the "
        "overflow of ev^2. g_n is the gravity pressing the contact shut (-dot(gravity, n) against an immovable "
        "side when gravity is on, else 0)",
        f_contact_target_velocity},
@@ -547,6 +553,11 @@ const std::vector<Formula>& formulas() {
        {107},
        "(min(max_abs(v), 64) + (max_abs(w) > 64 / (3 max_abs(h)) ? 64 : max_abs(w) * (3 max_abs(h)))) * dt",
        f_speculative_reach},
+      {"immovable_tolerance",
+       {97, 107},
+       "(growth - half_tol) + tol: a body's ground corners and SDF samples are contacts within it (oriented-box "
+       "model; growth = half_tol + speculative_reach as the broadphase formed it)",
+       f_immovable_tolerance},
       {"support_moved",
        {108},
        "max_abs((p + R * local) - rest) > distance",
@@ -781,6 +792,10 @@ std::vector<Case> cases_for(const std::string& fn, Rng& rng) {
     } else if (fn == "speculative_reach") {
       in = {{"v", random_raw_vec(rng, -80, 80)}, {"w", random_raw_vec(rng, k % 2 ? -200 : -5, k % 2 ? 200 : 5)},
             {"h", to_json(k % 4 == 3 ? rng.vec(100, 1000) : rng.vec(0.01, 2))}, {"dt", to_json(P.dt)}};
+    } else if (fn == "immovable_tolerance") {
+      const Q16 half_tol = P.contact_tolerance * Q16::from_double(0.5);
+      const Q16 reach = speculative_reach(rng.vec(-80, 80), rng.vec(-20, 20), rng.vec(0.01, 2), P.dt);
+      in = {{"growth", to_json(half_tol + reach)}, {"half_tol", to_json(half_tol)}, {"tol", to_json(P.contact_tolerance)}};
     } else if (fn == "support_moved") {
       const Qt q = rng.unit_quat();
       const V local = rng.vec(-1, 1), p0 = rng.vec(-10, 10);

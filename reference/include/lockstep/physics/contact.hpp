@@ -67,10 +67,13 @@ LS_HD_INLINE T accumulate_normal_impulse(T& accumulated, const T& v_n, const T& 
 // target is -g / dt and no impulse acts unless they would pass through. A
 // bouncing contact (e > 0) that closes its gap within this frame (-v_n0 dt > g)
 // bounces now, so a gap never swallows a bounce, with the speed it would have
-// after rising back to the gap from the surface against g_n (the gravity
-// pressing it on, 0 between two falling bodies): u = sqrt((e v_n0)^2 - 2 g_n g),
-// 0 if negative, so a bounce from a gap adds no energy. Above 128 m/s the
-// correction (< 0.001 m/s) is dropped, which keeps u^2 inside Q16.16.
+// after falling through the gap to the surface against g_n (the gravity
+// pressing it on, 0 between two falling bodies), bouncing there with e, and
+// rising back to the gap: u^2 = e^2 (v_n0^2 + 2 g_n g) - 2 g_n g
+// = (e v_n0)^2 - 2 g_n g (1 - e^2), 0 if negative (e <= 1), so a bounce from a
+// gap neither adds nor loses energy against one from the surface. Above
+// 128 m/s the correction (< 0.001 m/s) is dropped, which keeps u^2 inside
+// Q16.16.
 template <class T>
 LS_HD T contact_target_velocity(const T& penetration, const T& e, const T& v_n0, const T& g_n, const T& dt,
                                 const T& inv_dt) {
@@ -78,7 +81,8 @@ LS_HD T contact_target_velocity(const T& penetration, const T& e, const T& v_n0,
   const T gap = -penetration;
   if (!(e > T{}) || !(-(v_n0 * dt) > gap)) return penetration * inv_dt;
   const T ev = -(e * v_n0);
-  const T rise = Num<T>::sqrt(Num<T>::max(g_n, T{}) * gap * Num<T>::from_int(2));
+  const T one = Num<T>::from_int(1);
+  const T rise = Num<T>::sqrt(Num<T>::max(g_n, T{}) * gap * Num<T>::from_int(2) * (one - e * e));
   if (!(ev > rise)) return T{};
   if (ev > Num<T>::from_int(128)) return ev;
   return Num<T>::sqrt((ev - rise) * (ev + rise));
