@@ -11,6 +11,7 @@
 # CPU_SIZES (default 10000,100000): the CPU engines' sizes in the full run
 # ("" for none). SOLVERS (default "coloured jacobi"): the pair solvers the
 # full run measures (gpu_bench --solver), the CPU engines with the first.
+# MODEL (default oriented_box): the pile's pair model (gpu_bench --model).
 # ACCURACY=1: also `lockstep accuracy` with the gpu and gpu-jacobi columns
 # through CUDA (docs/accuracy/h100). NCU=0: no Nsight Compute pass; NCU=detail: also the
 # speed-of-light, occupancy, memory, scheduler, instruction, warp-state and
@@ -25,14 +26,14 @@ ncu_pass() {  # $1: folder with gpu_bench
   [ "${NCU:-1}" = 0 ] && return 0
   echo "== ncu: DRAM bytes per kernel, one frame of the 10^6-cube pile ($1)"
   timeout 300 ncu --profile-from-start off --metrics dram__bytes_read.sum,dram__bytes_write.sum,gpu__time_duration.sum \
-    --csv "$1/gpu_bench" --profile 1000000 > "$OUT/ncu.csv" 2> "$OUT/ncu.err"
+    --csv "$1/gpu_bench" --model "${MODEL:-oriented_box}" --profile 1000000 > "$OUT/ncu.csv" 2> "$OUT/ncu.err"
   echo "ncu rc=$?"; tail -3 "$OUT/ncu.err"
   if [ "${NCU:-1}" = detail ]; then
     timeout 400 ncu --profile-from-start off --kernel-name-base demangled \
       -k 'regex:GatherK|ContactsK|SolveK|CorrectIntegrateK' --launch-count "${NCU_COUNT:-4}" \
       --section SpeedOfLight --section Occupancy --section MemoryWorkloadAnalysis --section WarpStateStats \
       --section SchedulerStats --section InstructionStats --section LaunchStats --section SourceCounters \
-      "$1/gpu_bench" --profile 1000000 > "$OUT/ncu_detail.txt" 2>&1
+      "$1/gpu_bench" --model "${MODEL:-oriented_box}" --profile 1000000 > "$OUT/ncu_detail.txt" 2>&1
     echo "ncu detail rc=$?"
   fi
 }
@@ -43,7 +44,7 @@ if [ "${QUICK:-0}" = 1 ]; then
   last=""
   for dir in ${BIN//,/ }; do
     echo "== $dir"
-    "$dir/gpu_bench" --sizes "$SIZES" --cpu-sizes "" --sleep-size 0 2>&1 | tee "$OUT/quick_$(basename "$dir").txt"
+    "$dir/gpu_bench" --model "${MODEL:-oriented_box}" --sizes "$SIZES" --cpu-sizes "" --sleep-size 0 2>&1 | tee "$OUT/quick_$(basename "$dir").txt"
     last=$dir
   done
   ncu_pass "$last"
@@ -64,7 +65,7 @@ grep -E "^\[  (PASSED|FAILED|  OK|SKIPPED)|Failure|Which is|actual" "$OUT/device
 cpu=${CPU_SIZES-10000,100000}
 for solver in ${SOLVERS:-coloured jacobi}; do
   echo "== benchmark, $solver pair solver"
-  "$BIN/gpu_bench" --solver "$solver" --sizes "$SIZES" --cpu-sizes "$cpu" --json "$OUT/bench_$solver.json" 2>&1 \
+  "$BIN/gpu_bench" --model "${MODEL:-oriented_box}" --solver "$solver" --sizes "$SIZES" --cpu-sizes "$cpu" --json "$OUT/bench_$solver.json" 2>&1 \
     | tee "$OUT/bench_$solver.txt"
   cpu=""
 done
