@@ -6,7 +6,9 @@ engine's sources only: no Boost, no JSON library) under a matrix of compilers,
 optimisation levels and architectures, runs every built-in scene on each build
 and proves that every build gives the same state hash (eq 92) after every frame
 as the checked-in vectors (vectors/data/scenes/*.json), and the same sleep
-frames. Foreign architectures run under qemu-user.
+frames. Foreign Linux architectures run under qemu-user; WebAssembly
+(emscripten, and clang's wasm32-wasi) under Node.js; 64-bit Windows (mingw-w64)
+under wine.
 
   vectors/certify/certify.py            the full matrix
   vectors/certify/certify.py --ci       the CI subset (2 compilers x 2 optimisation levels + aarch64)
@@ -15,10 +17,12 @@ frames. Foreign architectures run under qemu-user.
            --all-frames (no frame limit for emulated -O0 builds; by default they certify pile1000 frames 0-120)
 
 Output: a table of builds by scenes (the frames certified per cell), the
-compilers, flags and qemu versions certified. Exit status 0 when every build
-agrees with the vectors on every frame; 1 on any difference, naming the first
-differing build, scene, frame, body and field; 2 when a build cannot be made
-or run (a missing compiler or qemu is an error unless --skip-missing).
+compilers, flags and qemu/node/wine versions certified. Exit status 0 when
+every build agrees with the vectors on every frame; 1 on any difference, naming
+the first differing build, scene, frame, body and field; 2 when a build cannot
+be made or run (a missing compiler or qemu is an error unless --skip-missing;
+the full matrix's WebAssembly and Windows builds are skipped, each named, where
+emscripten, the wasi sysroot, node, mingw-w64 or wine is missing).
 Standard library only.
 """
 
@@ -33,6 +37,7 @@ import platform
 import shutil
 import subprocess
 import sys
+import threading
 import time
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
@@ -47,6 +52,8 @@ SOURCES = [
     "vectors/certify/driver.cpp",
 ]
 INCLUDES = ["fixed/include", "reference/include"]
+# The driver and the platform files some builds add (wasm32-wasi's throw, its Node.js runner).
+CERTIFY_FILES = ["vectors/certify/driver.cpp", "vectors/certify/wasi_throw.cpp", "vectors/certify/run_wasi.mjs"]
 # The project's flags for all host code (cmake/LockstepFlags.cmake), before the matrix flags.
 BASE_FLAGS = ["-std=c++20", "-ffp-contract=off", "-Wall", "-Wextra", "-Wpedantic", "-Wshadow"]
 
@@ -55,48 +62,159 @@ STATE_FIELDS = ["p.x", "p.y", "p.z", "q.w", "q.x", "q.y", "q.z", "v.x", "v.y", "
 
 
 class Arch:
-    def __init__(self, name, gcc, clang_target, runner, static, description):
+    def __init__(self, name, gcc, clang_target, runner, static, description, compilers=None, exe_suffix="",
+                 link_flags=(), extra_sources=(), env=None, probes=(), setup=None, optional=False):
         self.name = name
         self.gcc = gcc                    # the GNU C++ compiler for this architecture
         self.clang_target = clang_target  # clang++ --target=... (None: native)
-        self.runner = runner              # the qemu-user binary, or None (native)
+        self.runner = list(runner or [])  # the command line that runs a binary (qemu-user, node, wine); [] = native
         self.static = static              # link statically (foreign libc is not installed natively)
         self.description = description
+        self.compilers = compilers or {}  # other compilers: name -> command (e.g. "emscripten": ["em++"])
+        self.exe_suffix = exe_suffix      # the binary's name ends so (".js", ".wasm", ".exe")
+        self.link_flags = list(link_flags)        # after the sources, for this platform only
+        self.extra_sources = list(extra_sources)  # vectors/certify/ files this platform links in too
+        self.env = env                    # work -> extra environment of compile and run, or None
+        self.probes = list(probes)        # (what is missing, Debian package, check(command) -> bool)
+        self.setup = setup                # (work, env) -> (note, seconds): once per run before its first run
+        self.optional = optional          # beyond Linux: skipped, with a message, where its tools are missing
+
+    def runner_name(self):
+        return os.path.basename(self.runner[0]) if self.runner else ""
+
+
+# emscripten (Debian's 3.1.6) runs its JavaScript optimiser (acorn) under node;
+# Debian installs acorn in /usr/share/nodejs, which a node not from Debian
+# (e.g. NodeSource's) does not search.
+def emscripten_env(work):
+    return {"NODE_PATH": os.pathsep.join(x for x in (os.environ.get("NODE_PATH", ""), "/usr/share/nodejs") if x)}
+
+
+# wine keeps its Windows (C: drive, registry) in a prefix: one per work
+# directory, created by the first run; no debug chatter; no Mono or Gecko
+# installer dialogs while it is created.
+def wine_env(work):
+    return {"WINEPREFIX": os.path.join(os.path.abspath(work), "wineprefix"), "WINEDEBUG": "-all",
+            "WINEDLLOVERRIDES": "mscoree,mshtml="}
+
+
+def wine_setup(work, env):
+    """Creates the wine prefix (a first wine start takes seconds to a minute);
+    the time counts in the run time of the build that waited for it."""
+    prefix = env["WINEPREFIX"]
+    if os.path.exists(os.path.join(prefix, "system.reg")):
+        return None
+    t0 = time.time()
+    p = subprocess.run(["wine", "wineboot", "--init"], cwd=ROOT, env=dict(os.environ, **env), stdout=subprocess.PIPE,
+                       stderr=subprocess.PIPE, text=True, timeout=600)
+    if p.returncode != 0 or not os.path.exists(os.path.join(prefix, "system.reg")):
+        raise RuntimeError("wine could not create its prefix %s (exit %d):\n%s" % (prefix, p.returncode,
+                                                                                   p.stderr[-2000:]))
+    return "wine prefix %s created" % shown(prefix), time.time() - t0
+
+
+def wasi_sysroot_installed(cxx):
+    """clang finds the wasm32-wasi C and C++ libraries and its builtins."""
+    for arg in ("-print-file-name=libc.a", "-print-file-name=libc++.a", "-print-libgcc-file-name"):
+        try:
+            p = subprocess.run(cxx + [arg], stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True, timeout=60)
+        except OSError:
+            return False
+        path = p.stdout.strip()
+        if p.returncode != 0 or not os.path.isabs(path) or not os.path.exists(path):
+            return False
+    return True
 
 
 ARCHES = {
     "x86_64": Arch("x86_64", "g++", None, None, False, "64-bit x86, native"),
     "i686": Arch("i686", "i686-linux-gnu-g++", "i686-linux-gnu", None, True, "32-bit x86 (x87 FPU by default), native"),
-    "aarch64": Arch("aarch64", "aarch64-linux-gnu-g++", "aarch64-linux-gnu", "qemu-aarch64", True,
+    "aarch64": Arch("aarch64", "aarch64-linux-gnu-g++", "aarch64-linux-gnu", ["qemu-aarch64"], True,
                     "64-bit ARM, qemu-user"),
-    "armhf": Arch("armhf", "arm-linux-gnueabihf-g++", "arm-linux-gnueabihf", "qemu-arm", True,
+    "armhf": Arch("armhf", "arm-linux-gnueabihf-g++", "arm-linux-gnueabihf", ["qemu-arm"], True,
                   "32-bit ARM (ARMv7, hard float), qemu-user"),
-    "s390x": Arch("s390x", "s390x-linux-gnu-g++", "s390x-linux-gnu", "qemu-s390x", True,
+    "s390x": Arch("s390x", "s390x-linux-gnu-g++", "s390x-linux-gnu", ["qemu-s390x"], True,
                   "64-bit IBM Z, big-endian, qemu-user"),
+    # The browser's WebAssembly: emscripten's JavaScript + wasm under Node.js
+    # (V8, the engine of Chrome). Node >= 18 has a global fetch(), with which
+    # emscripten 3.1.6's asynchronous loader tries to fetch the .wasm by its
+    # file path and fails; the synchronous loader reads the file. The heap may grow.
+    "wasm32": Arch("wasm32", None, None, ["node"], False, "WebAssembly, emscripten, under Node.js",
+                   compilers={"emscripten": ["em++"]}, exe_suffix=".js",
+                   link_flags=["-sENVIRONMENT=node", "-sWASM_ASYNC_COMPILATION=0", "-sALLOW_MEMORY_GROWTH=1"],
+                   env=emscripten_env, optional=True),
+    # WASI: clang's wasm32-wasi with wasi-libc and libc++ for wasm32, under
+    # Node.js's WASI. That libc++abi has no exceptions; wasi_throw.cpp ends the
+    # run on a throw (no built-in scene throws).
+    "wasm32-wasi": Arch("wasm32-wasi", None, "wasm32-wasi",
+                        ["node", "--no-warnings", os.path.join("{src}", "vectors", "certify", "run_wasi.mjs")], False,
+                        "WebAssembly, WASI preview 1, under Node.js's WASI", exe_suffix=".wasm",
+                        extra_sources=["vectors/certify/wasi_throw.cpp"],
+                        probes=[("the wasm32-wasi sysroot",
+                                 "wasi-libc libc++-14-dev-wasm32 libc++abi-14-dev-wasm32 libclang-rt-14-dev-wasm32",
+                                 wasi_sysroot_installed)],
+                        optional=True),
+    # 64-bit Windows: mingw-w64's g++ (msvcrt, the win32 thread model), under wine.
+    "win64": Arch("win64", "x86_64-w64-mingw32-g++", None, ["wine"], True, "64-bit Windows (mingw-w64), under wine",
+                  exe_suffix=".exe", env=wine_env, setup=wine_setup, optional=True),
 }
 
 
 class Build:
     def __init__(self, arch, compiler, flags, limits=None):
         self.arch = ARCHES[arch]
-        self.compiler = compiler  # "gcc" or "clang"
+        self.compiler = compiler  # "gcc", "clang" or one of the architecture's compilers ("emscripten")
         self.flags = flags        # the matrix flags (after BASE_FLAGS)
         self.limits = limits or {}  # scene -> frames certified (default: all)
         self.name = "%s-%s%s" % (arch, compiler, "".join(f.replace("-march=", "-").replace("-f", "-")
                                                          for f in flags).replace(" ", ""))
 
     def command(self):
+        if self.compiler in self.arch.compilers:
+            return list(self.arch.compilers[self.compiler])
         if self.compiler == "gcc":
-            cxx = [self.arch.gcc]
-        else:
-            cxx = ["clang++"] + (["--target=" + self.arch.clang_target] if self.arch.clang_target else [])
-        return cxx
+            return [self.arch.gcc]
+        return ["clang++"] + (["--target=" + self.arch.clang_target] if self.arch.clang_target else [])
 
     def tools(self):
         t = [self.command()[0]]
         if self.arch.runner:
-            t.append(self.arch.runner)
+            t.append(self.arch.runner[0])
         return t
+
+    def env(self, work):
+        return self.arch.env(work) if self.arch.env else {}
+
+    def executable(self, work):
+        return os.path.join(work, self.name + self.arch.exe_suffix)
+
+    def runner(self, src):
+        return [a.replace("{src}", src) for a in self.arch.runner]
+
+
+def debian_packages(missing_lists):
+    """The Debian packages that provide the missing tools, for a message."""
+    pk = []
+    for m in missing_lists:
+        for what, package in m:
+            for p in (package or PACKAGES.get(what, what)).split():
+                if p not in pk:
+                    pk.append(p)
+    return " ".join(pk)
+
+
+def missing_tools(build, cache):
+    """What this build needs and this machine lacks: commands not on PATH, then
+    failed probes (a sysroot), as [(what, Debian package or None)]."""
+    missing = [(t, None) for t in build.tools() if shutil.which(t) is None]
+    if not missing:
+        for what, package, check in build.arch.probes:
+            key = (what, tuple(build.command()))
+            if key not in cache:
+                cache[key] = check(build.command())
+            if not cache[key]:
+                missing.append((what, package))
+    return missing
 
 
 # Under emulation an -O0 build runs pile1000 for many minutes; by default it
@@ -119,6 +237,13 @@ def matrix_full(all_frames=False):
         for flags in (["-O0"], ["-O2"], ["-O3"], ["-O3", "-ffast-math"]):
             b.append(Build(arch, "gcc", flags, o0_limits if flags == ["-O0"] else None))
         b.append(Build(arch, "clang", ["-O2"]))
+    # Beyond Linux: the browser's WebAssembly, WASI and Windows.
+    for flags in (["-O2"], ["-O3"]):
+        b.append(Build("wasm32", "emscripten", flags))
+    for flags in (["-O2"], ["-O3"]):
+        b.append(Build("wasm32-wasi", "clang", flags))
+    for flags in (["-O2"], ["-O3", "-ffast-math"]):
+        b.append(Build("win64", "gcc", flags))
     return b
 
 
@@ -128,6 +253,16 @@ def matrix_ci():
     return [Build("x86_64", "gcc", ["-O0"]), Build("x86_64", "gcc", ["-O2"]),
             Build("x86_64", "clang", ["-O0"]), Build("x86_64", "clang", ["-O2"]),
             Build("aarch64", "gcc", ["-O2"])]
+
+
+# The Debian (bookworm) packages that provide each tool, for the messages.
+PACKAGES = {
+    "g++": "g++", "clang++": "clang", "i686-linux-gnu-g++": "g++-i686-linux-gnu",
+    "aarch64-linux-gnu-g++": "g++-aarch64-linux-gnu", "arm-linux-gnueabihf-g++": "g++-arm-linux-gnueabihf",
+    "s390x-linux-gnu-g++": "g++-s390x-linux-gnu", "qemu-aarch64": "qemu-user", "qemu-arm": "qemu-user",
+    "qemu-s390x": "qemu-user", "em++": "emscripten", "node": "nodejs", "wine": "wine wine64",
+    "x86_64-w64-mingw32-g++": "g++-mingw-w64-x86-64",
+}
 
 
 # ---------------------------------------------------------------------------
@@ -140,14 +275,18 @@ def shown(path):
     return path if rel.startswith("..") else rel
 
 
-def run(cmd, timeout=None):
-    p = subprocess.run(cmd, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, timeout=timeout)
+def run(cmd, timeout=None, env=None):
+    p = subprocess.run(cmd, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, timeout=timeout,
+                       env=dict(os.environ, **env) if env else None)
     return p.returncode, p.stdout, p.stderr
 
 
 def compiler_version(build):
-    rc, out, err = run(build.command() + ["--version"])
-    return (out or err).splitlines()[0].strip() if rc == 0 else "unavailable"
+    try:
+        rc, out, err = run(build.command() + ["--version"])
+    except OSError:
+        return "unavailable"
+    return (out or err).splitlines()[0].strip() if rc == 0 and (out or err) else "unavailable"
 
 
 def snapshot_sources(work):
@@ -159,7 +298,8 @@ def snapshot_sources(work):
     for d in INCLUDES + ["fixed/src", "reference/src"]:
         shutil.copytree(os.path.join(ROOT, d), os.path.join(dst, d))
     os.makedirs(os.path.join(dst, "vectors", "certify"))
-    shutil.copy2(os.path.join(ROOT, "vectors", "certify", "driver.cpp"), os.path.join(dst, "vectors", "certify"))
+    for f in CERTIFY_FILES:
+        shutil.copy2(os.path.join(ROOT, f), os.path.join(dst, "vectors", "certify"))
     return dst
 
 
@@ -177,25 +317,52 @@ def source_fingerprint(src):
     rc, out, _ = run(["git", "rev-parse", "--short", "HEAD"])
     if rc == 0:
         rev = out.strip()
-        rc, out, _ = run(["git", "status", "--porcelain", "--"] + INCLUDES + ["fixed/src", "reference/src",
-                                                                              "vectors/certify/driver.cpp"])
+        rc, out, _ = run(["git", "status", "--porcelain", "--"] + INCLUDES + ["fixed/src", "reference/src"]
+                         + CERTIFY_FILES)
         if rc == 0 and out.strip():
             rev += " + uncommitted changes"
     return h.hexdigest()[:16], rev
 
 
+_SETUP_LOCK = threading.Lock()
+_SETUP_DONE = {}  # (architecture, work directory) -> None when done, or the exception it raised
+
+
+def platform_setup(build, work, env):
+    """Runs the architecture's one-time setup (the wine prefix) once per work
+    directory; later builds wait for it. Returns (note, seconds) for the build
+    that ran it, else None."""
+    if build.arch.setup is None:
+        return None
+    key = (build.arch.name, os.path.abspath(work))
+    with _SETUP_LOCK:
+        if key in _SETUP_DONE:
+            if _SETUP_DONE[key] is not None:
+                raise _SETUP_DONE[key]
+            return None
+        try:
+            r = build.arch.setup(work, env)
+        except (OSError, RuntimeError, subprocess.TimeoutExpired) as e:
+            _SETUP_DONE[key] = RuntimeError(str(e))
+            raise
+        _SETUP_DONE[key] = None
+        return r
+
+
 def build_and_run(build, work, src, timeout, scenes):
     """Compiles the driver (sources in src) and runs every scene. Returns a result dict."""
-    res = {"build": build, "ok": False, "error": None, "output": None, "seconds_build": 0.0, "seconds_run": 0.0}
-    exe = os.path.join(work, build.name)
+    res = {"build": build, "ok": False, "error": None, "output": None, "seconds_build": 0.0, "seconds_run": 0.0,
+           "setup": None}
+    exe = build.executable(work)
+    env = build.env(work)
     cmd = (build.command() + BASE_FLAGS + build.flags + ["-I" + os.path.join(src, i) for i in INCLUDES]
-           + [os.path.join(src, f) for f in SOURCES] + ["-o", exe])
+           + [os.path.join(src, f) for f in SOURCES + build.arch.extra_sources] + build.arch.link_flags + ["-o", exe])
     if build.arch.static:
         cmd.append("-static")
     res["compile_command"] = " ".join(cmd)
     t0 = time.time()
     try:
-        rc, out, err = run(cmd, timeout=timeout)
+        rc, out, err = run(cmd, timeout=timeout, env=env)
     except FileNotFoundError as e:
         res["error"] = "compiler not found: %s" % e
         return res
@@ -203,13 +370,18 @@ def build_and_run(build, work, src, timeout, scenes):
     if rc != 0:
         res["error"] = "compilation failed:\n" + err[-4000:]
         return res
-    runcmd = ([build.arch.runner] if build.arch.runner else []) + [exe] + list(scenes)
+    runcmd = build.runner(src) + [exe] + list(scenes)
     for scene, n in sorted(build.limits.items()):
         runcmd += ["--frames", "%s=%d" % (scene, n)]
     res["run_command"] = runcmd
     t0 = time.time()
     try:
-        rc, out, err = run(runcmd, timeout=timeout)
+        res["setup"] = platform_setup(build, work, env)
+    except (OSError, RuntimeError, subprocess.TimeoutExpired) as e:
+        res["error"] = "setup of %s failed: %s" % (build.arch.name, e)
+        return res
+    try:
+        rc, out, err = run(runcmd, timeout=timeout, env=env)
     except FileNotFoundError as e:
         res["error"] = "runner not found: %s" % e
         return res
@@ -248,10 +420,9 @@ def parse_driver_output(text):
     return out
 
 
-def dump_state(build, work, scene, frame, timeout):
-    exe = os.path.join(work, build.name)
-    cmd = ([build.arch.runner] if build.arch.runner else []) + [exe, "--dump", scene, str(frame)]
-    rc, out, err = run(cmd, timeout=timeout)
+def dump_state(build, work, src, scene, frame, timeout):
+    cmd = build.runner(src) + [build.executable(work), "--dump", scene, str(frame)]
+    rc, out, err = run(cmd, timeout=timeout, env=build.env(work))
     if rc != 0:
         return None
     rows = []
@@ -342,6 +513,9 @@ def markdown_table(results, scenes):
     for r in results:
         b = r["build"]
         label = "`%s %s %s`" % (b.arch.name, b.compiler, " ".join(b.flags))
+        if r.get("skipped"):
+            rows.append("| %s | %s |" % (label, " | ".join(["SKIPPED: " + r["skipped"]] + [""] * (len(scenes) - 1))))
+            continue
         if not r["ok"]:
             rows.append("| %s | %s |" % (label, " | ".join(["BUILD/RUN ERROR"] + [""] * (len(scenes) - 1))))
             continue
@@ -378,19 +552,31 @@ def main(argv):
     if args.list:
         for b in builds:
             limits = ", ".join("%s frames 0-%d" % kv for kv in sorted(b.limits.items()))
-            print("%-28s %-9s %-6s %-22s %s%s" % (b.name, b.arch.name, b.compiler, " ".join(b.flags), b.arch.description,
-                                                 "; " + limits if limits else ""))
+            print("%-28s %-11s %-10s %-22s %s%s" % (b.name, b.arch.name, b.compiler, " ".join(b.flags),
+                                                   b.arch.description, "; " + limits if limits else ""))
         sys.stdout.flush()
         return 0
 
-    missing = sorted({t for b in builds for t in b.tools() if shutil.which(t) is None})
+    # A missing tool is an error (exit 2), unless --skip-missing; the matrix's
+    # builds beyond Linux (WebAssembly, Windows) are skipped where their tools
+    # are missing. Every skipped build is named here and in the report.
+    probe_cache = {}
+    requested = list(builds)
+    missing = [(b, m) for b, m in ((b, missing_tools(b, probe_cache)) for b in builds) if m]
+    skipped = []
     if missing:
-        if not args.skip_missing:
-            print("certify: not installed: %s (Debian: see docs/CERTIFICATION.md; or --skip-missing)" % ", ".join(missing),
-                  file=sys.stderr)
+        hard = [(b, m) for b, m in missing if not (b.arch.optional and not args.builds)]
+        if hard and not args.skip_missing:
+            what = sorted({w for _, m in hard for w, _ in m})
+            print("certify: not installed: %s, needed by %s (Debian: apt-get install %s; see docs/CERTIFICATION.md; "
+                  "or --skip-missing)" % (", ".join(what), ", ".join(b.name for b, _ in hard),
+                                          debian_packages(m for _, m in hard)), file=sys.stderr)
             return 2
-        builds = [b for b in builds if not any(t in missing for t in b.tools())]
-        print("certify: skipping builds that need %s" % ", ".join(missing))
+        for b, m in missing:
+            print("certify: SKIPPED %s: not installed: %s (Debian: apt-get install %s)"
+                  % (b.name, ", ".join(w for w, _ in m), debian_packages([m])), flush=True)
+            skipped.append({"build": b, "ok": False, "skipped": "not installed: " + ", ".join(w for w, _ in m)})
+        builds = [b for b in builds if all(b is not x["build"] for x in skipped)]
 
     os.makedirs(args.work, exist_ok=True)
     # One run per work directory: a second one would overwrite the first's binaries.
@@ -426,6 +612,7 @@ def main(argv):
                                                              r["seconds_build"], r["seconds_run"]), flush=True)
             results.append(r)
     order = {b.name: i for i, b in enumerate(builds)}
+    order_all = {b.name: i for i, b in enumerate(requested)}
     results.sort(key=lambda r: order[r["build"].name])
 
     scenes = selected or list(ref.keys())
@@ -452,14 +639,14 @@ def main(argv):
         r, s, frame, text = first
         b = r["build"]
         if frame is not None and text.startswith("DIFF"):
-            got = dump_state(b, args.work, s, frame, args.timeout)
+            got = dump_state(b, args.work, src, s, frame, args.timeout)
             want = ref[s]["states"].get(frame)
             source = "the vectors' stored state"
             if want is None:
                 base = next((x for x in results if x["ok"] and x["cells"][s][0] == "ok" and not x["build"].arch.runner),
                             None)
                 if base is not None:
-                    want = dump_state(base["build"], args.work, s, frame, args.timeout)
+                    want = dump_state(base["build"], args.work, src, s, frame, args.timeout)
                     source = "build %s (which agrees with the vectors)" % base["build"].name
             d = first_state_difference(want, got) if (want is not None and got is not None) else None
             if d is not None:
@@ -492,14 +679,15 @@ def main(argv):
         shown(args.vectors), next(iter(ref.values()))["generator"]))
     lines.append("")
     lines.append("Engine sources certified: git %s; sha256 of the %s files: `%s`." % (
-        revision, "fixed/, reference/include, reference/src and driver", fingerprint))
+        revision, "fixed/, reference/include, reference/src and vectors/certify (driver, wasi files)", fingerprint))
     lines.append("")
-    lines.append("Base flags of every build: `%s` (the project's), then the matrix flags; cross and i686 builds "
-                 "are linked `-static`. Cells: the frames whose state hash (eq 92) equals the vectors' "
+    lines.append("Base flags of every build: `%s` (the project's), then the matrix flags; cross, i686 and win64 "
+                 "builds are linked `-static`; emscripten's add `%s`. Cells: the frames whose state hash (eq 92) equals the vectors' "
                  "(`all N`: frames 0..N, every frame of the scene, plus every body's sleep frame; `0-K of N`: frames "
-                 "0..K only); `DIFF@f`: the first differing frame." % " ".join(BASE_FLAGS))
+                 "0..K only); `DIFF@f`: the first differing frame; `SKIPPED`: its tools are not installed."
+                 % (" ".join(BASE_FLAGS), " ".join(ARCHES["wasm32"].link_flags)))
     lines.append("")
-    lines.append(markdown_table(results, scenes))
+    lines.append(markdown_table(sorted(results + skipped, key=lambda r: order_all[r["build"].name]), scenes))
     lines.append("")
     lines.append("| build | compiler | binary reports | build s | run s |")
     lines.append("|---|---|---|---|---|")
@@ -514,13 +702,20 @@ def main(argv):
                                           info.get("compiler", "?"),
                                           ", fast-math" if info.get("fast_math") == "yes" else "")
         lines.append("| `%s` | %s%s | %s | %.0f | %.0f |" % (
-            b.name, versions[key], (" under " + b.arch.runner) if b.arch.runner else "", rep,
+            b.name, versions[key], (" under " + b.arch.runner_name()) if b.arch.runner else "", rep,
             r["seconds_build"], r["seconds_run"]))
-    runners = sorted({b.arch.runner for b in builds if b.arch.runner})
+    runners = sorted({b.arch.runner[0] for b in builds if b.arch.runner})
     for q in runners:
-        rc, out, _ = run([q, "--version"])
+        try:
+            rc, out, _ = run([q, "--version"])
+        except OSError:
+            rc, out = 1, ""
         lines.append("")
         lines.append("%s: %s" % (q, out.splitlines()[0] if rc == 0 and out else "unavailable"))
+    for r in results:
+        if r.get("setup"):
+            lines.append("")
+            lines.append("%s: %s in %.0f s, counted in its run time." % (r["build"].name, r["setup"][0], r["setup"][1]))
     lines.append("")
     total = time.time() - start
     if failures or diffs:
@@ -531,6 +726,10 @@ def main(argv):
     else:
         lines.append("**CERTIFIED**: %d builds x %d scenes agree with the vectors on every certified frame (%.0f s)."
                      % (len(results), len(scenes), total))
+    if skipped:
+        lines.append("")
+        lines.append("**SKIPPED** (not certified here: tools not installed): %s."
+                     % "; ".join("%s (%s)" % (x["build"].name, x["skipped"]) for x in skipped))
     report = "\n".join(lines)
     print()
     print(report)
