@@ -14,7 +14,6 @@ namespace broadphase {
 // A body covering more cells than this is tested against every body instead of
 // being inserted into each cell (a 50 m box in 4 m cells covers 27^3 cells).
 inline constexpr std::int64_t kMaxCellsPerBody = 512;
-struct Cell { int x, y, z; };
 // Cell coordinates packed into one sortable key (|c| < 2^20 on every axis:
 // |p| < 32768 m and cell_size >= 0.25 m).
 inline std::uint64_t cell_key(int x, int y, int z) {
@@ -47,12 +46,22 @@ void World<T>::broad_phase() {
     counters_.broadphase_bodies += n;
     return;
   }
-  // Boxes grown by growth_ (eqs 97, 107), as the narrowphase grows them.
-  std::vector<Cell> cmin(n), cmax(n);
-  std::vector<T> min_x(n), max_x(n);
-  struct Entry { std::uint64_t key; int body; };
-  std::vector<Entry> entries;
-  std::vector<int> large;
+  // Boxes grown by grow_ (eqs 97, 107), as the narrowphase grows them.
+  // The grid's buffers are kept from frame to frame (no allocation per frame).
+  BroadScratch& g = broad_;
+  g.cmin.resize(n);
+  g.cmax.resize(n);
+  g.min_x.resize(n);
+  g.max_x.resize(n);
+  g.entries.clear();
+  g.large.clear();
+  std::vector<BroadCell>& cmin = g.cmin;
+  std::vector<BroadCell>& cmax = g.cmax;
+  std::vector<T>& min_x = g.min_x;
+  std::vector<T>& max_x = g.max_x;
+  using Entry = BroadEntry;
+  std::vector<Entry>& entries = g.entries;
+  std::vector<int>& large = g.large;
   entries.reserve(n * 2);
   for (std::size_t i = 0; i < n; ++i) {
     const Body<T>& b = bodies_[i];
@@ -83,7 +92,7 @@ void World<T>::broad_phase() {
           b.p[ax] + (b.aabb_half[ax] + gb) < a.p[ax] - (a.aabb_half[ax] + ga)) return;
     pairs_.emplace_back(std::min(i, j), std::max(i, j));
   };
-  std::vector<int> members;
+  std::vector<int>& members = g.members;
   for (std::size_t s = 0; s < entries.size();) {
     std::size_t e = s;
     while (e < entries.size() && entries[e].key == entries[s].key) ++e;

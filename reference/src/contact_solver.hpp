@@ -84,7 +84,8 @@ void World<T>::solve_contacts() {
   const bool oriented = scene_.pair_contacts == PairModel::kOrientedBox;
   // The visits: a manifold (consecutive contacts of one body with one other
   // side) or a single AABB pair contact, as [begin, end) in the list.
-  std::vector<std::pair<std::size_t, std::size_t>> visits;
+  std::vector<std::pair<std::size_t, std::size_t>>& visits = visits_;
+  visits.clear();
   for (std::size_t s = 0; s < contacts_.size();) {
     std::size_t e = s + 1;
     if (contacts_[s].b < 0 || oriented)
@@ -92,16 +93,31 @@ void World<T>::solve_contacts() {
     visits.emplace_back(s, e);
     s = e;
   }
+  // A visit is a function of its two sides' velocities and its contacts'
+  // states alone; one that applied no impulse changed neither, so while
+  // neither side's velocity has changed since, visiting it again would apply
+  // none again: it is skipped (the same bits), counted as the visit it
+  // repeats. velocity_version_[i] counts the visits that changed body i.
+  velocity_version_.assign(bodies_.size(), 0u);
+  idle_visits_.assign(visits.size(), IdleVisit{});
   // 7.2 step 5 (oriented-box model): even passes visit the list in order,
   // odd passes in reverse (symmetric Gauss-Seidel), so an impact on top of a
   // stack reaches the ground within one pass and the ground's answer climbs
   // back in the next. The source's AABB model: every pass in order.
   for (int it = 0; it < P_.solver_iterations; ++it) {
     for (std::size_t vi = 0; vi < visits.size(); ++vi) {
-      const std::pair<std::size_t, std::size_t>& visit = visits[(oriented && (it & 1)) ? visits.size() - 1 - vi : vi];
+      const std::size_t at = (oriented && (it & 1)) ? visits.size() - 1 - vi : vi;
+      const std::pair<std::size_t, std::size_t>& visit = visits[at];
       const std::size_t s = visit.first, e = visit.second;  // (not a structured binding: lambdas capture s)
       const bool manifold = contacts_[s].b < 0 || oriented;
       const int ia = contacts_[s].a, ib = contacts_[s].b;
+      const unsigned version_a = velocity_version_[static_cast<std::size_t>(ia)];
+      const unsigned version_b = ib >= 0 ? velocity_version_[static_cast<std::size_t>(ib)] : 0u;
+      IdleVisit& idle = idle_visits_[at];
+      if (idle.idle && idle.version_a == version_a && idle.version_b == version_b) {
+        counters_.solver_contacts += idle.solver_contacts;  // the visit it repeats: no impulse
+        continue;
+      }
       BodyView<T> A = solver::view_of(bodies_, ia);
       BodyView<T> B = solver::view_of(bodies_, ib);
       SolveCounts counts;
@@ -127,6 +143,14 @@ void World<T>::solve_contacts() {
       if (A.inv_mass > T{}) { Body<T>& b = bodies_[static_cast<std::size_t>(ia)]; b.v = A.v; b.w = A.w; }
       if (B.inv_mass > T{}) { Body<T>& b = bodies_[static_cast<std::size_t>(ib)]; b.v = B.v; b.w = B.w; }
       check_faults(ia, ib >= 0 ? "contact impulse (with another body)" : "contact impulse");
+      idle.idle = counts.normal_impulses == 0 && counts.friction_steps == 0;
+      if (!idle.idle) {
+        ++velocity_version_[static_cast<std::size_t>(ia)];
+        if (ib >= 0) ++velocity_version_[static_cast<std::size_t>(ib)];
+      }
+      idle.version_a = velocity_version_[static_cast<std::size_t>(ia)];
+      idle.version_b = ib >= 0 ? velocity_version_[static_cast<std::size_t>(ib)] : 0u;
+      idle.solver_contacts = counts.solver_contacts;
     }
   }
   warm_.clear();

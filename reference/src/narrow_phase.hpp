@@ -13,7 +13,8 @@ namespace lockstep {
 template <class T>
 void World<T>::narrow_phase() {
   contacts_.clear();
-  std::vector<Contact<T>> pair_contacts;
+  std::vector<Contact<T>>& pair_contacts = pair_contacts_;
+  pair_contacts.clear();
   const T half_tol = P_.contact_tolerance * Num<T>::from_double(0.5);
   const T tol = half_tol + half_tol;  // the two growths together
   // Body against body, pairs in ascending (i, j) order.

@@ -279,6 +279,28 @@ LS_PROP(Q16VecProp, NormalizeBound) {
   }
 }
 
+// direction_of (eq 57's sliding test and direction from one square root):
+// the same answer, unit vector and status flags as length(a) > 0 followed by
+// normalize(a), for any vector: zero, tiny (length of a few raw units), and
+// huge ones whose length clamps with kQ16Overflow.
+LS_PROP(Q16VecProp, DirectionOfIsLengthThenNormalize) {
+  const V3 a = *rc::gen::weightedOneOf<V3>({{6, vec_any()},
+                                            {2, vec_length_in(-8, 0)},
+                                            {1, rc::gen::just(V3{})},
+                                            {1, rc::gen::just(v3(kMin32, kMax32, kMin32))}});
+  lockstep::q16_clear_status();
+  V3 unit = v3(7, -7, 7);  // untouched when there is no direction
+  const bool got = lockstep::direction_of(a, unit);
+  const std::uint32_t got_flags = lockstep::q16_take_status();
+  V3 want_unit = v3(7, -7, 7);
+  const bool want = lockstep::length(a) > Q16{};
+  if (want) want_unit = lockstep::normalize(a);
+  const std::uint32_t want_flags = lockstep::q16_take_status();
+  RC_ASSERT(got == want);
+  RC_ASSERT(unit == want_unit);
+  RC_ASSERT(got_flags == want_flags);
+}
+
 LS_PROP(Q16VecProp, QuatNormalizeRule) {
   const Q4 q = *rc::gen::weightedOneOf<Q4>({{8, quat_any()}, {2, rc::gen::just(Q4{})}});
   assert_same(run([&] { return lockstep::normalize(q); }), lt::ref_normalize(q));

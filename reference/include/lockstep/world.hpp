@@ -167,6 +167,27 @@ class World {
   std::vector<Vec3<T>> corrected_from_;  // per body: its position before this frame's correction (eq 89 order)
   std::vector<int> order_;            // eq 110: the pair contacts that correct, bottom up
   std::vector<Vec3<T>> turn_;         // eq 111: per body, the turn (rad) this frame's correction gave it
+  // Stage 2 scratch (broad_phase.hpp): per body its cells and x extent, the
+  // (cell, body) entries, the bodies too large for the grid, one cell's members.
+  struct BroadCell { int x, y, z; };
+  struct BroadEntry { std::uint64_t key; int body; };
+  struct BroadScratch {
+    std::vector<BroadCell> cmin, cmax;
+    std::vector<T> min_x, max_x;
+    std::vector<BroadEntry> entries;
+    std::vector<int> large, members;
+  };
+  BroadScratch broad_;
+  // Stage 3-4 scratch (narrow_phase.hpp): this frame's body-pair contacts.
+  std::vector<Contact<T>> pair_contacts_;
+  // Stage 5 scratch (contact_solver.hpp): the visits, as [begin, end) in
+  // contacts_; per body, how many visits of this solve changed its velocity;
+  // per visit, whether its last visit applied no impulse, and the versions of
+  // its sides' velocities after it.
+  struct IdleVisit { bool idle = false; unsigned version_a = 0, version_b = 0, solver_contacts = 0; };
+  std::vector<std::pair<std::size_t, std::size_t>> visits_;
+  std::vector<unsigned> velocity_version_;
+  std::vector<IdleVisit> idle_visits_;
   bool oriented_correction_ = false;  // eq 110's penetration (less what the stage moved) for pairs too
   T ground_y_{}, ground_e_{}, ground_mu_{};
   std::vector<T> sdf_e_, sdf_mu_;

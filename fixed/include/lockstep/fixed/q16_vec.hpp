@@ -134,6 +134,20 @@ inline Vec3<Q16> normalize(const Vec3<Q16>& a) {
   return {div(a.x), div(a.y), div(a.z)};
 }
 
+// Whether |a| > 0 (length(a) > 0), and then unit = normalize(a): the same
+// values (and status flags) as the two, from one square root: length(a) is
+// the clamp of round(sqrt(sum R_i^2)), which is > 0 exactly when that root
+// is, and normalize divides by the same root.
+inline bool direction_of(const Vec3<Q16>& a, Vec3<Q16>& unit) {
+  const std::uint64_t len = q16detail::isqrt_round(raw_length_sq(a));
+  if (q16detail::saturate(static_cast<std::int64_t>(len)) <= 0) return false;
+  const auto l = static_cast<std::int64_t>(len);
+  auto div = [l](Q16 v) {
+    return Q16::from_raw(q16detail::saturate(q16detail::round_div(std::int64_t{v.raw()} * 65536, l)));
+  };
+  unit = {div(a.x), div(a.y), div(a.z)};
+  return true;
+}
 // Hamilton product: each component an exact sum of 4 products, one floor.
 inline Quat<Q16> operator*(const Quat<Q16>& a, const Quat<Q16>& b) {
   Q16Accumulator w, x, y, z;

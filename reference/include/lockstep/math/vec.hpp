@@ -53,7 +53,7 @@ template <class T> LS_HD Vec3<T> cross(const Vec3<T>& a, const Vec3<T>& b) {
 template <class T> LS_HD T length_sq(const Vec3<T>& a) { return dot(a, a); }
 template <class T> LS_HD T length(const Vec3<T>& a) { return Num<T>::sqrt(length_sq(a)); }
 // The largest |component| (exact in every number type: no rounding).
-template <class T> LS_HD T max_abs(const Vec3<T>& a) {
+template <class T> LS_HD_INLINE T max_abs(const Vec3<T>& a) {
   return Num<T>::max(Num<T>::abs(a.x), Num<T>::max(Num<T>::abs(a.y), Num<T>::abs(a.z)));
 }
 // a / |a|; a zero vector gives zero (Q16 raises kQ16NormalizeZero instead).
@@ -61,6 +61,14 @@ template <class T> LS_HD Vec3<T> normalize(const Vec3<T>& a) {
   const T len = length(a);
   if (len == T(0)) return a;
   return {a.x / len, a.y / len, a.z / len};
+}
+
+// Whether |a| > 0, and then unit = normalize(a) (unit untouched otherwise):
+// the two as written, which Q16 forms from one square root.
+template <class T> LS_HD bool direction_of(const Vec3<T>& a, Vec3<T>& unit) {
+  if (!(length(a) > T(0))) return false;
+  unit = normalize(a);
+  return true;
 }
 
 // Hamilton product a * b.

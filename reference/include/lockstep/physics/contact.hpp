@@ -75,7 +75,7 @@ LS_HD_INLINE T accumulate_normal_impulse(T& accumulated, const T& v_n, const T& 
 // 128 m/s the correction (< 0.001 m/s) is dropped, which keeps u^2 inside
 // Q16.16.
 template <class T>
-LS_HD T contact_target_velocity(const T& penetration, const T& e, const T& v_n0, const T& g_n, const T& dt,
+LS_HD_INLINE T contact_target_velocity(const T& penetration, const T& e, const T& v_n0, const T& g_n, const T& dt,
                                 const T& inv_dt) {
   if (!(penetration < T{})) return -(e * v_n0);
   const T gap = -penetration;

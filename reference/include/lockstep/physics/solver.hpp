@@ -4,6 +4,8 @@
 // (gpu/src/stages.hpp) call these same functions for one contact or one
 // manifold; they differ in the order of visits, not in formulas.
 #pragma once
+#include <type_traits>
+
 #include "lockstep/math/vec.hpp"
 #include "lockstep/physics/contact.hpp"
 #include "lockstep/physics/params.hpp"
@@ -93,7 +95,7 @@ LS_HD void warm_start_contact(BodyView<T>& A, const Vec3<T>& r1, BodyView<T>& B,
 // Eq 97's g_n: gravity presses a body onto an immovable side B; two falling
 // bodies feel none. B's mobility does not change during the solve.
 template <class T>
-LS_HD T gravity_pressing(const BodyView<T>& B, const Vec3<T>& n, bool gravity, const Params<T>& P) {
+LS_HD_INLINE T gravity_pressing(const BodyView<T>& B, const Vec3<T>& n, bool gravity, const Params<T>& P) {
   return (gravity && B.inv_mass == T{}) ? -dot(P.gravity, n) : T{};
 }
 
@@ -133,10 +135,11 @@ LS_HD void solve_contact(BodyView<T>& A, const Vec3<T>& r1, BodyView<T>& B, cons
 }
 
 // Host builds keep what a manifold visit has formed once and would form again:
-// eq 87's velocity changes of each point's impulse (measured by
-// manifold_step, then applied when the step is 1) and the friction step's
-// relative velocities (eq 48, the pull of its eq 99 step). The same values,
-// so the same bits; device builds form them again (fewer registers).
+// its points and their solver states (read once per visit), eq 87's velocity
+// changes of each point's impulse (measured by manifold_step, then applied
+// when the step is 1), each point's impulse, and the friction step's relative
+// velocities (eq 48, the pull of its eq 99 step). The same values, so the
+// same bits; device builds form them again (fewer registers).
 #if defined(__CUDA_ARCH__)
 inline constexpr bool kManifoldCache = false;
 #else
@@ -146,22 +149,26 @@ inline constexpr bool kManifoldCache = true;
 // Eq 99's step length for the impulses that a manifold's points propose
 // together: `impulse(k, n)` is point k's proposed impulse (0: none) and
 // `pull(k, r1, r2, n)` the velocity change it asks for, both in world axes;
-// `A`, `B` the two sides (only their masses and inertia are used).
+// `A`, `B` the two sides (only their masses and inertia are used); points
+// k >= `end` are not contacts.
 // With R the largest component of any impulse (a common scale that keeps the
 // sums inside Q16.16), a = sum_k (J_k / R) . pull_k and b = sum_k (J_k / R) . dv_k,
 // dv_k being the velocity change at point k that all impulses cause together.
 // With `deltas` (and `formed`), point k's eq 87 velocity changes are kept in
-// deltas[k] and formed[k] tells whether they were formed (a non-zero impulse).
+// deltas[k] and formed[k] tells whether they were formed (a non-zero
+// impulse); with `impulses`, point k's impulse is kept in impulses[k] (read
+// only where formed[k]).
 template <int N, class T, class Point, class Impulse, class Pull>
-LS_HD T manifold_step(const BodyView<T>& A, const BodyView<T>& B, const Point& point, const Impulse& impulse,
-                      const Pull& pull, ImpulseDelta<T>* deltas = nullptr, bool* formed = nullptr) {
+LS_HD_INLINE T manifold_step(const BodyView<T>& A, const BodyView<T>& B, const Point& point, const Impulse& impulse,
+                      const Pull& pull, ImpulseDelta<T>* deltas = nullptr, bool* formed = nullptr,
+                      Vec3<T>* impulses = nullptr, int end = N) {
   BodyView<T> Z = A, Zb = B;  // the sides at rest: they gather the impulses' velocity change
   Z.v = Z.w = Zb.v = Zb.w = Vec3<T>{};
   T reach{};
 #if defined(__CUDA_ARCH__)
 #pragma unroll 1
 #endif
-  for (int k = 0; k < N; ++k) {
+  for (int k = 0; k < end; ++k) {
     if (formed != nullptr) formed[k] = false;
     Vec3<T> r1, r2, n;
     T penetration;
@@ -171,6 +178,7 @@ LS_HD T manifold_step(const BodyView<T>& A, const BodyView<T>& B, const Point& p
     const ImpulseDelta<T> dl = impulse_delta(Z, r1, Zb, r2, J);  // Z, Zb: A's and B's masses and inertia
     apply_delta(Z, Zb, dl);
     if (deltas != nullptr) { deltas[k] = dl; formed[k] = true; }
+    if (impulses != nullptr) impulses[k] = J;
     reach = Num<T>::max(reach, max_abs(J));
   }
   if (!(reach > T{})) return Num<T>::from_int(1);
@@ -178,12 +186,19 @@ LS_HD T manifold_step(const BodyView<T>& A, const BodyView<T>& B, const Point& p
 #if defined(__CUDA_ARCH__)
 #pragma unroll 1
 #endif
-  for (int k = 0; k < N; ++k) {
+  for (int k = 0; k < end; ++k) {
     Vec3<T> r1, r2, n;
     T penetration;
-    if (!point(k, r1, r2, n, penetration)) continue;
-    const Vec3<T> J = impulse(k, n);
-    if (J == Vec3<T>{}) continue;
+    Vec3<T> J;
+    if (impulses != nullptr) {  // kept by the loop above: formed[k] is whether it is a contact with an impulse
+      if (!formed[k]) continue;
+      point(k, r1, r2, n, penetration);
+      J = impulses[k];
+    } else {
+      if (!point(k, r1, r2, n, penetration)) continue;
+      J = impulse(k, n);
+      if (J == Vec3<T>{}) continue;
+    }
     const Vec3<T> w{J.x / reach, J.y / reach, J.z / reach};  // in [-1, 1]
     a += dot(w, pull(k, r1, r2, n));
     b += dot(w, relative_velocity(Z, r1, Zb, r2));
@@ -214,20 +229,53 @@ LS_HD T manifold_step(const BodyView<T>& A, const BodyView<T>& B, const Point& p
 // a pair of active bodies pass their mass splitting (docs/GPU.md), as
 // solve_contact's k_scale.
 template <int N, class T, class Point, class Load, class Store>
-LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point, const Load& load, const Store& store,
-                          bool friction, bool gravity, const T& k_scale, const Params<T>& P, SolveCounts& counts) {
+LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point_at, const Load& load_at,
+                          const Store& store_at, bool friction, bool gravity, const T& k_scale, const Params<T>& P,
+                          SolveCounts& counts) {
   const T one = Num<T>::from_int(1);
+  constexpr int M = kManifoldCache ? N : 1;
+  // kManifoldCache: the points and states, read once (the first loop below).
+  Vec3<T> pr1[M], pr2[M], pn[M];
+  T ppen[M];
+  ContactState<T> pst[M];
+  bool pok[M];
+  auto point = [&](int k, Vec3<T>& r1, Vec3<T>& r2, Vec3<T>& n, T& penetration) {
+    if constexpr (kManifoldCache) {
+      if (!pok[k]) return false;
+      r1 = pr1[k], r2 = pr2[k], n = pn[k], penetration = ppen[k];
+      return true;
+    } else {
+      return point_at(k, r1, r2, n, penetration);
+    }
+  };
+  auto load = [&](int k) -> std::conditional_t<kManifoldCache, const ContactState<T>&, ContactState<T>> {
+    if constexpr (kManifoldCache) return pst[k];
+    else return load_at(k);
+  };
+  auto store = [&](int k, const ContactState<T>& st) {
+    if constexpr (kManifoldCache) pst[k] = st;
+    store_at(k, st);
+  };
   T split = one;  // eq 99
-  int count = 0;
+  int count = 0, end = 0;  // end: 1 + the last point that is a contact
   {
     T o{};
+#if defined(__CUDA_ARCH__)
+#pragma unroll 1
+#endif
     for (int k = 0; k < N; ++k) {
       Vec3<T> r1, r2, n;
       T penetration;
-      if (!point(k, r1, r2, n, penetration)) continue;
+      const bool ok = point_at(k, r1, r2, n, penetration);
+      if constexpr (kManifoldCache) {
+        pok[k] = ok;
+        if (ok) pr1[k] = r1, pr2[k] = r2, pn[k] = n, ppen[k] = penetration, pst[k] = load_at(k);
+      }
+      if (!ok) continue;
       const T k_n = load(k).k_n;
       if (count == 0 && !(k_n > T{})) return;  // both sides immovable
       ++count;
+      end = k + 1;
       o += (A.inv_mass + B.inv_mass) / k_n;
     }
     if (count == 0) return;
@@ -238,12 +286,12 @@ LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point, co
 #if defined(__CUDA_ARCH__)
 #pragma unroll 1
 #endif
-  for (int k = 0; k < N; ++k) {
+  for (int k = 0; k < end; ++k) {
     dj[k] = res[k] = T{};
     Vec3<T> r1, r2, n;
     T penetration;
     if (!point(k, r1, r2, n, penetration)) continue;
-    const ContactState<T> c = load(k);
+    const ContactState<T>& c = load(k);
     ++counts.solver_contacts;
     const T v_n = dot(relative_velocity(A, r1, B, r2), n);  // eqs 48-49, at the visit's start
     // Only approaching contacts bounce (the fix of 3.1): the target -e v_n0 uses v_n0 <= 0.
@@ -255,16 +303,18 @@ LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point, co
   }
   // kManifoldCache: eq 87's velocity changes as manifold_step formed them,
   // applied as they are when the step is 1 (the impulses unchanged).
-  ImpulseDelta<T> delta[kManifoldCache ? N : 1];
-  bool formed[kManifoldCache ? N : 1];
+  ImpulseDelta<T> delta[M];
+  bool formed[M];
+  Vec3<T> impulse[M];
   bool cached = false;
   if (count > 1) {
     const T alpha = manifold_step<N>(
         A, B, point, [&](int k, const Vec3<T>& n) { return n * dj[k]; },
         [&](int k, const Vec3<T>&, const Vec3<T>&, const Vec3<T>& n) { return n * res[k]; },  // eq 99
-        kManifoldCache ? delta : nullptr, kManifoldCache ? formed : nullptr);
+        kManifoldCache ? delta : nullptr, kManifoldCache ? formed : nullptr, kManifoldCache ? impulse : nullptr,
+        end);
     if (alpha < one) {
-      for (int k = 0; k < N; ++k) dj[k] = dj[k] * alpha;
+      for (int k = 0; k < end; ++k) dj[k] = dj[k] * alpha;
     } else {
       cached = kManifoldCache;
     }
@@ -272,7 +322,7 @@ LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point, co
 #if defined(__CUDA_ARCH__)
 #pragma unroll 1
 #endif
-  for (int k = 0; k < N; ++k) {
+  for (int k = 0; k < end; ++k) {
     Vec3<T> r1, r2, n;
     T penetration;
     if (dj[k] == T{} || !point(k, r1, r2, n, penetration)) continue;
@@ -288,22 +338,23 @@ LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point, co
   // above mu J_n when J_n has since dropped.
   const BodyView<T> A1 = A, B1 = B;
   Vec3<T> dJ[N];
-  Vec3<T> vrel[kManifoldCache ? N : 1];  // kManifoldCache: eq 48 at each point, for the step's pull
+  Vec3<T> vrel[M];  // kManifoldCache: eq 48 at each point, for the step's pull
 #if defined(__CUDA_ARCH__)
 #pragma unroll 1
 #endif
-  for (int k = 0; k < N; ++k) {
+  for (int k = 0; k < end; ++k) {
     dJ[k] = Vec3<T>{};
     Vec3<T> r1, r2, n;
     T penetration;
     if (!point(k, r1, r2, n, penetration)) continue;
-    const ContactState<T> c = load(k);
+    const ContactState<T>& c = load(k);
     if (!(c.j_n > T{}) && c.j_t == Vec3<T>{}) continue;
     const Vec3<T> vr = relative_velocity(A1, r1, B1, r2);  // eq 48
     if constexpr (kManifoldCache) vrel[k] = vr;
     const Vec3<T> v_tan = tangential_velocity(vr, n);  // eq 56
-    const bool sliding = length(v_tan) > T{};                                         // eq 57
-    const T k_t = sliding ? inverse_effective_mass(A1, r1, B1, r2, normalize(v_tan)) * split : one;  // eqs 60, 88, 99
+    Vec3<T> t;
+    const bool sliding = direction_of(v_tan, t);                                   // eq 57: |v_tan| > 0, t = v_tan / |v_tan|
+    const T k_t = sliding ? inverse_effective_mass(A1, r1, B1, r2, t) * split : one;  // eqs 60, 88, 99
     Vec3<T> j_t = c.j_t;
     dJ[k] = accumulate_friction_impulse(j_t, v_tan, k_t, c.mu, c.j_n);  // eq 95
   }
@@ -315,9 +366,10 @@ LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point, co
           if constexpr (kManifoldCache) return -vrel[k];  // pull is only asked of a point with an impulse
           else return -relative_velocity(A1, r1, B1, r2);
         },  // eq 99
-        kManifoldCache ? delta : nullptr, kManifoldCache ? formed : nullptr);
+        kManifoldCache ? delta : nullptr, kManifoldCache ? formed : nullptr, kManifoldCache ? impulse : nullptr,
+        end);
     if (alpha < one) {
-      for (int k = 0; k < N; ++k) dJ[k] = dJ[k] * alpha;
+      for (int k = 0; k < end; ++k) dJ[k] = dJ[k] * alpha;
     } else {
       cached = kManifoldCache;
     }
@@ -325,7 +377,7 @@ LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point, co
 #if defined(__CUDA_ARCH__)
 #pragma unroll 1
 #endif
-  for (int k = 0; k < N; ++k) {
+  for (int k = 0; k < end; ++k) {
     Vec3<T> r1, r2, n;
     T penetration;
     if (dJ[k] == Vec3<T>{} || !point(k, r1, r2, n, penetration)) continue;
