@@ -270,6 +270,48 @@ RC_GTEST_PROP(ContactTest, Eq99ManifoldStepNeverGainsEnergy, ()) {
     RC_ASSERT(energy(A) <= e0 * (1 + 1e-9) + 1e-12);
   }
 }
+// eqs 95, 99: after a manifold's visit no point's friction impulse is above
+// its cone |J_t| <= mu J_n, whatever the state it starts from: a friction
+// impulse left above the cone when J_n dropped is pulled back whole before
+// the Jacobi proposals (before 2026-11-25 the re-clamp was one of the
+// proposals and a step length a / b tending to 0 as a -> 0+ left it above the
+// cone; AgreementProp seed 142: fixed and double parted by 5.4 cm there).
+RC_GTEST_PROP(ContactTest, Eq99FrictionIsNeverLeftAboveTheCone, ()) {
+  auto real = [](double lo, double hi) { return lo + (hi - lo) * *rc::gen::inRange(0, 1000001) / 1e6; };
+  const V half{real(0.1, 1), real(0.1, 1), real(0.1, 1)};
+  const double mass = real(0.1, 10);
+  const Q q = normalize(Q{real(-1, 1), real(-1, 1), real(-1, 1), real(-1, 1) + 1e-3});
+  BodyView<double> A{V{real(-2, 2), real(-2, 0.5), real(-2, 2)}, V{real(-3, 3), real(-3, 3), real(-3, 3)}, 1 / mass,
+                     rotation_matrix(q), box_inverse_inertia(half, 1 / mass, 3.0)};
+  BodyView<double> B = immovable_view<double>();
+  const int n_points = *rc::gen::inRange(2, 5);
+  const double mu = *rc::gen::element(0.2, 0.5, 1.0);
+  V r[4];
+  ContactState<double> st[4];
+  for (int k = 0; k < n_points; ++k) {
+    const V local{(k & 1 ? 1 : -1) * half.x, -half.y, (k & 2 ? 1 : -1) * half.z};
+    r[k] = A.R * local;
+    SolveCounts counts;
+    st[k] = prepare_contact(A, r[k], B, V{}, kUp, 0.0, mu, 0.0, mu, false, true, P, counts);
+    // last pass's impulses: J_n since dropped, J_t up to 3 times its cone
+    st[k].j_n = real(0, 2) * mass;
+    st[k].j_t = V{real(-3, 3), 0.0, real(-3, 3)} * (mu * st[k].j_n);
+  }
+  auto point = [&](int k, V& rr, V& r2, V& n, double& pen) {
+    if (k >= n_points) return false;
+    r2 = V{};
+    rr = r[k];
+    n = kUp;
+    pen = 0.001;
+    return true;
+  };
+  auto load = [&](int k) { return st[k]; };
+  auto store = [&](int k, const ContactState<double>& c) { st[k] = c; };
+  SolveCounts counts;
+  solve_manifold<4>(A, B, point, load, store, true, true, P, counts);
+  for (int k = 0; k < n_points; ++k)
+    RC_ASSERT(length(st[k].j_t) <= mu * st[k].j_n * (1 + 1e-12) + 1e-15);
+}
 // eq 89's order: a 1.3 kg cube dropped 5 cm onto a 0.1 kg box resting on the
 // ground (every effect on). The pair's correction moves the light box 93 % of
 // the pair's overlap down; with the ground corrected last, less what the pair

@@ -92,14 +92,18 @@ LS_HD_INLINE T contact_target_velocity(const T& penetration, const T& e, const T
 // the iterations, a vector in the contact plane, is clamped to the Coulomb
 // cone |J_t| <= mu J_n; each iteration adds -v_tan / k_t and returns the
 // change to apply. One iteration on one contact is exactly eq 88.
+// eq 95's clamp: a friction impulse J scaled onto the cone |J| <= limit
+// (limit = mu J_n), unchanged inside it.
+template <class T>
+LS_HD_INLINE Vec3<T> clamp_to_cone(const Vec3<T>& J, const T& limit) {
+  const T mag = length(J);
+  return mag > limit ? J * (limit / mag) : J;
+}
 template <class T>
 LS_HD_INLINE Vec3<T> accumulate_friction_impulse(Vec3<T>& accumulated, const Vec3<T>& v_tan, const T& k_t, const T& mu,
                                           const T& j_n) {
   const Vec3<T> old = accumulated;
-  Vec3<T> updated = accumulated - v_tan * (Num<T>::from_int(1) / k_t);
-  const T limit = mu * j_n;
-  const T mag = length(updated);
-  if (mag > limit) updated = updated * (limit / mag);
+  const Vec3<T> updated = clamp_to_cone(accumulated - v_tan * (Num<T>::from_int(1) / k_t), mu * j_n);
   accumulated = updated;
   return updated - old;
 }
@@ -111,13 +115,15 @@ LS_HD_INLINE Vec3<T> accumulate_friction_impulse(Vec3<T>& accumulated, const Vec
 // With a = sum_k dJ_k . (target_k - v_k) (the residual's pull) and
 // b = sum_k dJ_k . dv_k (dv_k: the velocity change at point k that all the
 // dJ cause together; b = dJ^T K dJ >= 0), the kinetic energy along
-// alpha dJ is minimal at alpha = a / b; the step is min(1, a / b), 1 when
-// a <= 0 (nothing to gain; a friction re-clamp). a and b may carry any common
+// alpha dJ is minimal at alpha = a / b; the step is min(1, a / b), 0 when
+// a <= 0 (nothing to gain; continuous at a = 0). A friction impulse above
+// the cone is pulled back before the proposals (solve_manifold), whole. a and b may carry any common
 // positive factor (the manifold divides dJ by its largest component first,
 // which keeps them inside Q16.16).
 template <class T>
 LS_HD T manifold_step_length(const T& a, const T& b) {
-  if (!(a > T{}) || !(b > a)) return Num<T>::from_int(1);
+  if (!(a > T{})) return T{};  // no descent along the proposals (continuous: a/b -> 0 as a -> 0+)
+  if (!(b > a)) return Num<T>::from_int(1);
   return a / b;
 }
 

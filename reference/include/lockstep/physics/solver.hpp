@@ -334,8 +334,31 @@ LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point_at,
     ++counts.normal_impulses;
   }
   if (!friction) return;
-  // Friction (eqs 56-62, 88, 95); also re-clamps a friction impulse left
-  // above mu J_n when J_n has since dropped.
+  // Friction (eqs 56-62, 88, 95). Of a manifold (eq 99), first the cone: a
+  // friction impulse left above mu J_n when J_n has since dropped is pulled
+  // back onto the cone, whole (a projection, not a step to be shortened: with
+  // it inside the proposals, a step length that tends to 0 as a tends to 0+
+  // and jumps to 1 at a <= 0 left friction above the cone in one engine and
+  // not in another). A single point does both in eq 95's one step.
+  if (count > 1) {
+#if defined(__CUDA_ARCH__)
+#pragma unroll 1
+#endif
+    for (int k = 0; k < end; ++k) {
+      Vec3<T> r1, r2, n;
+      T penetration;
+      if (!point(k, r1, r2, n, penetration)) continue;
+      ContactState<T> c = load(k);
+      if (c.j_t == Vec3<T>{}) continue;
+      const Vec3<T> inside = clamp_to_cone(c.j_t, c.mu * c.j_n);  // eq 95's clamp
+      if (inside == c.j_t) continue;
+      const Vec3<T> back = inside - c.j_t;
+      c.j_t = inside;
+      store(k, c);
+      apply_impulse(A, r1, B, r2, back);  // eqs 61-62, 87
+      ++counts.friction_steps;
+    }
+  }
   const BodyView<T> A1 = A, B1 = B;
   Vec3<T> dJ[N];
   Vec3<T> vrel[M];  // kManifoldCache: eq 48 at each point, for the step's pull
