@@ -941,6 +941,8 @@ std::vector<Case> cases_for(const std::string& fn, Rng& rng) {
         "a small body: |w| r exactly sleep_corner_speed (strict <)", {"Edge"});
   } else if (fn == "wakes") {
     add({{"v_n", to_json(-P.wake_speed)}, {"penetration", 0}}, "approach exactly wake_speed (strict >)", {"Edge"});
+    add({{"v_n", 0}, {"penetration", to_json(P.wake_penetration)}}, "penetration exactly wake_penetration (strict >)",
+        {"Edge"});
   } else if (fn == "support_weight") {
     add({{"penetration", 0}, {"slop", to_json(P.slop)}}, "touching: weight 1", {"Edge"});
     add({{"penetration", to_json(Q16::from_raw(1) - P.slop)}, {"slop", to_json(P.slop)}},
@@ -949,8 +951,6 @@ std::vector<Case> cases_for(const std::string& fn, Rng& rng) {
     add({{"v", Json::array({3, -kOne / 10, 0})}, {"v_support", zero}, {"n", up}, {"gap_speed", kOne / 20},
          {"rest_speed", to_json(P.rest_speed)}},
         "approach faster than the gap closes: kept at -gap_speed", {"Edge"});
-    add({{"v_n", 0}, {"penetration", to_json(P.wake_penetration)}}, "penetration exactly wake_penetration (strict >)",
-        {"Edge"});
   } else if (fn == "low_speed_restitution") {
     add({{"e", 32768},
          {"v_n", to_json(-P.restitution_min_speed)},
