@@ -59,12 +59,16 @@ RC_GTEST_PROP(DeterminismTest, SaveAndRestoreMidRunGivesTheSameHashes, ()) {
 // Box2D-style pinned determinism: the hash of the single-drop scene at the
 // frame where it falls asleep. A change of any bit of the fixed engine moves
 // it; update it only for an intended physics change (and regenerate vectors/).
-constexpr int kPinnedSleepFrame = 94;
+// Eqs 75, 98 (support gap and weights, 2026-11-25) moved it from frame 94
+// (0x2460f2f6b01b819c): the cube no longer hops off its landing edge every
+// third frame (its support contacts dropping out of the set) but slides on
+// it and sleeps at frame 99, 1.4 cm short of where it stopped before.
+constexpr int kPinnedSleepFrame = 99;
 constexpr int kPinnedOrientedStackFrame = 30;
 constexpr std::uint64_t kPinnedOrientedStackHash = 0x6ade4901b3a01dd0ull;
 constexpr int kPinnedAabbStackFrame = 30;
 constexpr std::uint64_t kPinnedAabbStackHash = 0x91445dda8f6ec7dfull;
-constexpr std::uint64_t kPinnedHash = 0x2460f2f6b01b819cull;
+constexpr std::uint64_t kPinnedHash = 0xc95b3b757ca9e285ull;
 TEST(DeterminismTest, PinnedDropHashAndSleepFrame) {
   Scene s;
   BodyDesc b = unit_cube(0, 2, 0);
