@@ -409,6 +409,7 @@ TEST(SettleTest, Eq98SupportWeight) {
   EXPECT_DOUBLE_EQ(support_weight(0.003, 0.001), 1.0);
   EXPECT_NEAR(support_weight(-0.00025, 0.001), 0.75, 1e-12);
   EXPECT_NEAR(support_weight(-0.000999, 0.001), 0.001, 1e-12);
+  EXPECT_DOUBLE_EQ(support_weight(0.0005, 0.0), 1.0);  // slop 0: touching contacts only, no division
   EXPECT_DOUBLE_EQ(support_gap(0.002), 0.0);
   EXPECT_DOUBLE_EQ(support_gap(-0.0004), 0.0004);
 }

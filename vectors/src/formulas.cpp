@@ -490,7 +490,7 @@ const std::vector<Formula>& formulas() {
        "vn = dot(v - v_support, n); keep = max(min(vn, 0), -gap_speed); v - n * (vn - keep) if |vn| < rest_speed, "
        "else v",
        f_cancel_resting},
-      {"support_weight", {98}, "min(1, (penetration + slop) / slop)", f_support_weight},
+      {"support_weight", {98}, "1 if penetration >= 0, else (penetration + slop) / slop", f_support_weight},
       {"settle_linear", {77}, "v * settle_factor if speed < settle_speed, else v", f_settle_linear},
       {"combined_restitution", {50}, "min(e1, e2)", f_combined_restitution},
       {"low_speed_restitution", {76}, "e if -v_n > restitution_min_speed, else 0", f_low_speed_restitution},
@@ -947,6 +947,7 @@ std::vector<Case> cases_for(const std::string& fn, Rng& rng) {
     add({{"penetration", 0}, {"slop", to_json(P.slop)}}, "touching: weight 1", {"Edge"});
     add({{"penetration", to_json(Q16::from_raw(1) - P.slop)}, {"slop", to_json(P.slop)}},
         "1 ulp inside the support set: the smallest weight", {"Edge"});
+    add({{"penetration", 1}, {"slop", 0}}, "slop 0: a touching contact weighs 1 (no division)", {"Edge"});
   } else if (fn == "cancel_resting_velocity") {
     add({{"v", Json::array({3, -kOne / 10, 0})}, {"v_support", zero}, {"n", up}, {"gap_speed", kOne / 20},
          {"rest_speed", to_json(P.rest_speed)}},

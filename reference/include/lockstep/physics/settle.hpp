@@ -58,12 +58,14 @@ LS_HD Vec3<T> regime_damping(const Vec3<T>& w, const T& alignment, const Params<
 
 // eq 98 (Part 4): the weight of a support contact in its body's support
 // normal: 1 when touching (penetration >= 0), fading linearly to 0 as its
-// gap grows to slop: w = min(1, (penetration + slop) / slop). A contact that
-// leaves or joins the support set (penetration > -slop) then turns the
+// gap grows to slop: (penetration + slop) / slop for -slop < penetration < 0
+// (that case implies slop > 0, so slop = 0 divides by nothing). A contact
+// that leaves or joins the support set (penetration > -slop) then turns the
 // support normal by nothing, not by a jump.
 template <class T>
 LS_HD T support_weight(const T& penetration, const T& slop) {
-  return Num<T>::min(Num<T>::from_int(1), (penetration + slop) / slop);
+  if (!(penetration < T{})) return Num<T>::from_int(1);
+  return (penetration + slop) / slop;
 }
 
 // The gap of a support contact (Part 4, eq 75): max(0, -penetration). A
