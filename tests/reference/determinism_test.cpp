@@ -61,14 +61,14 @@ RC_GTEST_PROP(DeterminismTest, SaveAndRestoreMidRunGivesTheSameHashes, ()) {
 // it; update it only for an intended physics change (and regenerate vectors/).
 // Eqs 75, 98 (support gap and weights, 2026-11-25) moved it from frame 94
 // (0x2460f2f6b01b819c): the cube no longer hops off its landing edge every
-// third frame (its support contacts dropping out of the set) but settles
-// onto it, and sleeps at frame 93 (double: 96).
-constexpr int kPinnedSleepFrame = 93;
+// third frame (its support contacts dropping out of the set) but slides on
+// it and sleeps at frame 99, 1.4 cm short of where it stopped before.
+constexpr int kPinnedSleepFrame = 99;
 constexpr int kPinnedOrientedStackFrame = 30;
 constexpr std::uint64_t kPinnedOrientedStackHash = 0x6ade4901b3a01dd0ull;
 constexpr int kPinnedAabbStackFrame = 30;
 constexpr std::uint64_t kPinnedAabbStackHash = 0x91445dda8f6ec7dfull;
-constexpr std::uint64_t kPinnedHash = 0xd473047ecae87082ull;
+constexpr std::uint64_t kPinnedHash = 0xc95b3b757ca9e285ull;
 TEST(DeterminismTest, PinnedDropHashAndSleepFrame) {
   Scene s;
   BodyDesc b = unit_cube(0, 2, 0);

@@ -390,15 +390,15 @@ TEST(SettleTest, Eq72To74Regimes) {
   EXPECT_DOUBLE_EQ(regime_damping(V{1, 0, 0}, 0.96, P).x, 0.85);
   EXPECT_DOUBLE_EQ(regime_damping(V{1, 0, 0}, 0.9, P).x, 1.0);
 }
-// eq 75: slow relative normal velocity is removed; fast is kept; while the
-// support gap is open (gap_speed > 0) a slow approach is kept whole, a
-// rebound never.
+// eq 75: slow relative normal velocity is removed; fast is kept; a support
+// gap g keeps an approach of up to g / dt (closing the gap this frame), and
+// never a rebound.
 TEST(SettleTest, Eq75RestingCancellation) {
   EXPECT_DOUBLE_EQ(cancel_resting_velocity(V{1, -0.1, 0}, V{}, V{0, 1, 0}, 0.0, 0.2).y, 0.0);
   EXPECT_DOUBLE_EQ(cancel_resting_velocity(V{1, -0.1, 0}, V{}, V{0, 1, 0}, 0.0, 0.2).x, 1.0);
   EXPECT_DOUBLE_EQ(cancel_resting_velocity(V{0, -0.5, 0}, V{}, V{0, 1, 0}, 0.0, 0.2).y, -0.5);
   EXPECT_DOUBLE_EQ(cancel_resting_velocity(V{0, -0.5, 0}, V{0, -0.45, 0}, V{0, 1, 0}, 0.0, 0.2).y, -0.45);
-  EXPECT_DOUBLE_EQ(cancel_resting_velocity(V{1, -0.1, 0}, V{}, V{0, 1, 0}, 0.06, 0.2).y, -0.1);
+  EXPECT_DOUBLE_EQ(cancel_resting_velocity(V{1, -0.1, 0}, V{}, V{0, 1, 0}, 0.06, 0.2).y, -0.06);
   EXPECT_DOUBLE_EQ(cancel_resting_velocity(V{1, -0.05, 0}, V{}, V{0, 1, 0}, 0.06, 0.2).y, -0.05);
   EXPECT_DOUBLE_EQ(cancel_resting_velocity(V{1, 0.05, 0}, V{}, V{0, 1, 0}, 0.06, 0.2).y, 0.0);
 }

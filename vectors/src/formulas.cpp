@@ -487,8 +487,8 @@ const std::vector<Formula>& formulas() {
        f_regime_damping},
       {"cancel_resting_velocity",
        {75},
-       "vn = dot(v - v_support, n); keep = min(vn, 0) if gap_speed > 0, else 0; v - n * (vn - keep) if "
-       "|vn| < rest_speed, else v",
+       "vn = dot(v - v_support, n); keep = max(min(vn, 0), -gap_speed); v - n * (vn - keep) if |vn| < rest_speed, "
+       "else v",
        f_cancel_resting},
       {"support_weight", {98}, "1 if penetration >= 0, else (penetration + slop) / slop", f_support_weight},
       {"settle_linear", {77}, "v * settle_factor if speed < settle_speed, else v", f_settle_linear},
@@ -951,7 +951,7 @@ std::vector<Case> cases_for(const std::string& fn, Rng& rng) {
   } else if (fn == "cancel_resting_velocity") {
     add({{"v", Json::array({3, -kOne / 10, 0})}, {"v_support", zero}, {"n", up}, {"gap_speed", kOne / 20},
          {"rest_speed", to_json(P.rest_speed)}},
-        "an open support gap: the slow approach is kept", {"Edge"});
+        "approach faster than the gap closes: kept at -gap_speed", {"Edge"});
   } else if (fn == "low_speed_restitution") {
     add({{"e", 32768},
          {"v_n", to_json(-P.restitution_min_speed)},

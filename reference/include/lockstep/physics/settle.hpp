@@ -76,19 +76,18 @@ LS_HD T support_gap(const T& penetration) { return Num<T>::max(T{}, -penetration
 // eq 75 (4.4): with n the body's support normal (pointing from the support
 // to the body) and v_s the supporting body's velocity (0 for the ground), a
 // slow relative normal velocity (|vn| < rest_speed, vn = (v - v_s).n) is
-// removed, but for an approach while the body's support gap g is open:
-// vn' = min(vn, 0) if gap_speed = g / dt > 0, else 0; v' = v - (vn - vn') n.
+// removed but for an approach that closes the support gap g this frame:
+// vn' = max(min(vn, 0), -gap_speed), gap_speed = g / dt; v' = v - (vn - vn') n.
 // A touching body (g = 0) keeps no normal velocity; a body whose nearest
-// support is a speculative gap keeps the approach the solver left it (the
-// speculative targets of eq 97 bound it at every contact) and settles onto
-// the gap instead of hovering on it. Bodies are visited in ascending height
-// (then index), so a stack comes to rest from the bottom up in one pass.
+// support is a speculative gap settles onto it instead of hovering on it.
+// Bodies are visited in ascending height (then index), so a stack comes to
+// rest from the bottom up in one pass.
 template <class T>
 LS_HD Vec3<T> cancel_resting_velocity(const Vec3<T>& v, const Vec3<T>& v_support, const Vec3<T>& n,
                                       const T& gap_speed, const T& rest_speed) {
   const T vn = dot(v - v_support, n);
   if (!(Num<T>::abs(vn) < rest_speed)) return v;
-  const T keep = gap_speed > T{} ? Num<T>::min(vn, T{}) : T{};
+  const T keep = Num<T>::max(Num<T>::min(vn, T{}), -gap_speed);
   return v - n * (vn - keep);
 }
 
