@@ -676,7 +676,8 @@ struct PreviousContacts {
 // - finds its contacts in World<T>'s order (ground corners, SDF samples,
 //   bodies by index) and its support: the touching contacts whose normal
 //   towards it is within acos(support_normal_min) of up; the first is the
-//   support, the normalised sum of their normals the support normal (98);
+//   support, the normalised sum of their normals weighted by support_weight
+//   the support normal (98), the smallest of their gaps the support gap (75);
 // - counts its contacts with other active bodies per normal direction (the
 //   Jacobi mass splitting);
 // - prepares each contact for the solver (eqs 48-50, 58, 76, 86) with the
@@ -731,9 +732,15 @@ struct ContactsK {
     const Vec3<float> up{0.0f, Num<float>::from_int(1), 0.0f};
     int support = kNoSupport;
     Vec3<float> support_sum{};
-    auto add_support = [&](int who, const Vec3<float>& n) {
-      if (support == kNoSupport) support = who;
-      support_sum += n;
+    float support_gap_min{};
+    auto add_support = [&](int who, const Vec3<float>& n, float penetration) {
+      const float gap = support_gap(penetration);
+      if (support == kNoSupport) {
+        support = who;
+        support_gap_min = gap;
+      }
+      support_gap_min = Num<float>::min(support_gap_min, gap);
+      support_sum += n * support_weight(penetration, slop);  // eq 98
     };
     // A contact with an immovable thing: its preparation and warm start.
     auto immovable = [&](int e, const Vec3<float>& r1, const Vec3<float>& n, float e2, float mu2, bool cached_ok) {
@@ -752,7 +759,7 @@ struct ContactsK {
         const float depth = ground_corner_depth(p, R, h, c, sc.ground_y, corner);
         if (!(depth > -itol)) continue;
         ++ground_contacts;
-        if (depth > -slop && up.y >= min_up) add_support(kStaticSupport, up);
+        if (depth > -slop && up.y >= min_up) add_support(kStaticSupport, up, depth);
         mask |= 1 << c;
         immovable(c, corner - p, up, sc.ground_e, sc.ground_mu, ((prev_mask >> c) & 1) != 0);
       }
@@ -772,7 +779,7 @@ struct ContactsK {
           continue;
         }
         ++sdf_contacts;
-        if (c.penetration > -slop && c.n.y >= min_up) add_support(kStaticSupport, c.n);
+        if (c.penetration > -slop && c.n.y >= min_up) add_support(kStaticSupport, c.n, c.penetration);
         immovable(e, xyz(c1) - p, xyz(c0), mat.x, mat.y, had);
       }
     }
@@ -833,7 +840,7 @@ struct ContactsK {
         const int prev_count = prev_t >= 0 ? ro(&prev.man[prev_t].count) : 0;
         SolveCounts here;
         for (int c = 0; c < mf.count; ++c) {
-          if (mf.penetration[c] > -slop && n_i.y >= min_up) add_support(j, n_i);
+          if (mf.penetration[c] > -slop && n_i.y >= min_up) add_support(j, n_i, mf.penetration[c]);
           const Vec3<float> r1 = mf.point[c] - (lower ? p : pj), r2 = mf.point[c] - (lower ? pj : p);
           ContactState<float> cs =
               prepare_contact(pick(lower, self0, other0), r1, pick(lower, other0, self0), r2, mf.n,
@@ -860,7 +867,7 @@ struct ContactsK {
       if (!j_awake) ++immovable_bodies;
       if (edges.mate != nullptr) init_edge(edges, d.lists, i, t, j, j_awake, p.y, pj.y);
       if (j_awake && ((directions >> shift) & 255u) < 255u) directions += Counter{1} << shift;
-      if (pc.penetration > -slop && n_i.y >= min_up) add_support(j, n_i);
+      if (pc.penetration > -slop && n_i.y >= min_up) add_support(j, n_i, pc.penetration);
       const BodyView<float> other0 = view_of(b, j, b.vel, b.ang);
       const Vec3<float> r1 = pc.point - (lower ? p : pj), r2 = pc.point - (lower ? pj : p);
       const float e_o = ro(b.half + j).w, mu_o = ro(b.inert + j).w;
@@ -891,7 +898,7 @@ struct ContactsK {
     has_immovable[k] = ground_contacts + sdf_contacts + immovable_bodies > 0 ? 1 : 0;
     if (pair_points > 0) add_counter(&ctr[kCBodyContacts], pair_points);
     support_idx[i] = support;
-    support_n[i] = f4(support != kNoSupport ? normalize(support_sum) : Vec3<float>{}, 0.0f);
+    support_n[i] = f4(support != kNoSupport ? normalize(support_sum) : Vec3<float>{}, support_gap_min);  // w: the support gap
     vout[i] = f4(self.v, 0.0f);
     wout[i] = f4(self.w, 0.0f);
     add_counter(&ctr[kCGroundContacts], ground_contacts);
@@ -1228,7 +1235,8 @@ struct SettleSweep {
         v_s = xyz(ro(vpost + s));
       }
     }
-    return settle_linear_velocity(v, v_s, xyz(ro(support_n + i)), P, relative);  // eqs 75, 77
+    const F4 sn = ro(support_n + i);  // the support normal, w: the support gap
+    return settle_linear_velocity(v, v_s, xyz(sn), sn.w, P, relative);  // eqs 75, 77
   }
 };
 

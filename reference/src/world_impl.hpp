@@ -77,6 +77,7 @@ World<T>::World(const Scene& scene) : scene_(scene), P_(Params<T>::from(scene.co
   support_.assign(bodies_.size(), -1);
   rests_.assign(bodies_.size(), {});
   support_n_.assign(bodies_.size(), Vec3<T>{});
+  support_gap_.assign(bodies_.size(), T{});
 }
 
 template <class T>
@@ -98,6 +99,7 @@ World<T>& World<T>::operator=(const World& other) {
   support_ = other.support_;
   rests_ = other.rests_;
   support_n_ = other.support_n_;
+  support_gap_ = other.support_gap_;
   ground_y_ = other.ground_y_;
   ground_e_ = other.ground_e_;
   ground_mu_ = other.ground_mu_;

@@ -59,12 +59,17 @@ RC_GTEST_PROP(DeterminismTest, SaveAndRestoreMidRunGivesTheSameHashes, ()) {
 // Box2D-style pinned determinism: the hash of the single-drop scene at the
 // frame where it falls asleep. A change of any bit of the fixed engine moves
 // it; update it only for an intended physics change (and regenerate vectors/).
-constexpr int kPinnedSleepFrame = 84;  // 94 before 2026-11-25: the ground tolerance grows with the reach (eqs 97, 107)
+// 2026-11-25 moved it from frame 94 (0x2460f2f6b01b819c) to 90: eqs 75, 98
+// (support gap and weights: the cube no longer hops off its landing edge
+// every third frame but slides on it; alone, frame 99), the ground
+// tolerance growing with the reach (eqs 97, 107; alone, frame 84) and eq
+// 99's friction cone first.
+constexpr int kPinnedSleepFrame = 90;
 constexpr int kPinnedOrientedStackFrame = 30;
 constexpr std::uint64_t kPinnedOrientedStackHash = 0x6ade4901b3a01dd0ull;
 constexpr int kPinnedAabbStackFrame = 30;
 constexpr std::uint64_t kPinnedAabbStackHash = 0x91445dda8f6ec7dfull;
-constexpr std::uint64_t kPinnedHash = 0x287a2e84d480b437ull;
+constexpr std::uint64_t kPinnedHash = 0xa072a4d308155ca9ull;
 TEST(DeterminismTest, PinnedDropHashAndSleepFrame) {
   Scene s;
   BodyDesc b = unit_cube(0, 2, 0);

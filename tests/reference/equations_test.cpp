@@ -438,12 +438,28 @@ TEST(SettleTest, Eq72To74Regimes) {
   EXPECT_DOUBLE_EQ(regime_damping(V{1, 0, 0}, 0.96, P).x, 0.85);
   EXPECT_DOUBLE_EQ(regime_damping(V{1, 0, 0}, 0.9, P).x, 1.0);
 }
-// eq 75: slow relative normal velocity is removed; fast is kept.
+// eq 75: slow relative normal velocity is removed; fast is kept; a support
+// gap g keeps an approach of up to g / dt (closing the gap this frame), and
+// never a rebound.
 TEST(SettleTest, Eq75RestingCancellation) {
-  EXPECT_DOUBLE_EQ(cancel_resting_velocity(V{1, -0.1, 0}, V{}, V{0, 1, 0}, 0.2).y, 0.0);
-  EXPECT_DOUBLE_EQ(cancel_resting_velocity(V{1, -0.1, 0}, V{}, V{0, 1, 0}, 0.2).x, 1.0);
-  EXPECT_DOUBLE_EQ(cancel_resting_velocity(V{0, -0.5, 0}, V{}, V{0, 1, 0}, 0.2).y, -0.5);
-  EXPECT_DOUBLE_EQ(cancel_resting_velocity(V{0, -0.5, 0}, V{0, -0.45, 0}, V{0, 1, 0}, 0.2).y, -0.45);
+  EXPECT_DOUBLE_EQ(cancel_resting_velocity(V{1, -0.1, 0}, V{}, V{0, 1, 0}, 0.0, 0.2).y, 0.0);
+  EXPECT_DOUBLE_EQ(cancel_resting_velocity(V{1, -0.1, 0}, V{}, V{0, 1, 0}, 0.0, 0.2).x, 1.0);
+  EXPECT_DOUBLE_EQ(cancel_resting_velocity(V{0, -0.5, 0}, V{}, V{0, 1, 0}, 0.0, 0.2).y, -0.5);
+  EXPECT_DOUBLE_EQ(cancel_resting_velocity(V{0, -0.5, 0}, V{0, -0.45, 0}, V{0, 1, 0}, 0.0, 0.2).y, -0.45);
+  EXPECT_DOUBLE_EQ(cancel_resting_velocity(V{1, -0.1, 0}, V{}, V{0, 1, 0}, 0.06, 0.2).y, -0.06);
+  EXPECT_DOUBLE_EQ(cancel_resting_velocity(V{1, -0.05, 0}, V{}, V{0, 1, 0}, 0.06, 0.2).y, -0.05);
+  EXPECT_DOUBLE_EQ(cancel_resting_velocity(V{1, 0.05, 0}, V{}, V{0, 1, 0}, 0.06, 0.2).y, 0.0);
+}
+// eq 98: a support contact's weight in the support normal: 1 touching, fading
+// linearly to 0 at a gap of slop.
+TEST(SettleTest, Eq98SupportWeight) {
+  EXPECT_DOUBLE_EQ(support_weight(0.0, 0.001), 1.0);
+  EXPECT_DOUBLE_EQ(support_weight(0.003, 0.001), 1.0);
+  EXPECT_NEAR(support_weight(-0.00025, 0.001), 0.75, 1e-12);
+  EXPECT_NEAR(support_weight(-0.000999, 0.001), 0.001, 1e-12);
+  EXPECT_DOUBLE_EQ(support_weight(0.0005, 0.0), 1.0);  // slop 0: touching contacts only, no division
+  EXPECT_DOUBLE_EQ(support_gap(0.002), 0.0);
+  EXPECT_DOUBLE_EQ(support_gap(-0.0004), 0.0004);
 }
 // eq 77: linear settling damping below settle_speed.
 TEST(SettleTest, Eq77LinearSettling) {

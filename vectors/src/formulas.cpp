@@ -321,7 +321,10 @@ Json f_regime_damping(In in, const std::string& p) {
 }
 Json f_cancel_resting(In in, const std::string& p) {
   return Json{{"v", to_json(cancel_resting_velocity(vec_at(in, "v", p), vec_at(in, "v_support", p), vec_at(in, "n", p),
-                                                    q16_at(in, "rest_speed", p)))}};
+                                                    q16_at(in, "gap_speed", p), q16_at(in, "rest_speed", p)))}};
+}
+Json f_support_weight(In in, const std::string& p) {
+  return Json{{"w", to_json(support_weight(q16_at(in, "penetration", p), q16_at(in, "slop", p)))}};
 }
 Json f_settle_linear(In in, const std::string& p) {
   return Json{{"v", to_json(settle_linear(vec_at(in, "v", p), q16_at(in, "speed", p), params_at(in, p)))}};
@@ -489,8 +492,10 @@ const std::vector<Formula>& formulas() {
        f_regime_damping},
       {"cancel_resting_velocity",
        {75},
-       "vn = dot(v - v_support, n); v - n * vn if |vn| < rest_speed, else v",
+       "vn = dot(v - v_support, n); keep = max(min(vn, 0), -gap_speed); v - n * (vn - keep) if |vn| < rest_speed, "
+       "else v",
        f_cancel_resting},
+      {"support_weight", {98}, "1 if penetration >= 0, else (penetration + slop) / slop", f_support_weight},
       {"settle_linear", {77}, "v * settle_factor if speed < settle_speed, else v", f_settle_linear},
       {"combined_restitution", {50}, "min(e1, e2)", f_combined_restitution},
       {"low_speed_restitution", {76}, "e if -v_n > restitution_min_speed, else 0", f_low_speed_restitution},
@@ -751,7 +756,10 @@ std::vector<Case> cases_for(const std::string& fn, Rng& rng) {
       in = {{"v", random_raw_vec(rng, -0.5, 0.5)},
             {"v_support", k % 2 ? random_raw_vec(rng, -0.3, 0.3) : zero},
             {"n", k % 3 ? up : to_json(normalize(rng.vec(-1, 1)))},
+            {"gap_speed", to_json(k % 4 ? rng.q16(0, 0.1) : Q16{})},
             {"rest_speed", to_json(P.rest_speed)}};
+    } else if (fn == "support_weight") {
+      in = {{"penetration", to_json(k % 3 ? -rng.q16(0, 0.0011) : rng.q16(0, 0.01))}, {"slop", to_json(P.slop)}};
     } else if (fn == "settle_linear") {
       in = {{"v", random_raw_vec(rng, -0.4, 0.4)}, {"speed", to_json(rng.q16(0, 0.6))}};
     } else if (fn == "combined_restitution") {
@@ -950,6 +958,15 @@ std::vector<Case> cases_for(const std::string& fn, Rng& rng) {
     add({{"v_n", to_json(-P.wake_speed)}, {"penetration", 0}}, "approach exactly wake_speed (strict >)", {"Edge"});
     add({{"v_n", 0}, {"penetration", to_json(P.wake_penetration)}}, "penetration exactly wake_penetration (strict >)",
         {"Edge"});
+  } else if (fn == "support_weight") {
+    add({{"penetration", 0}, {"slop", to_json(P.slop)}}, "touching: weight 1", {"Edge"});
+    add({{"penetration", to_json(Q16::from_raw(1) - P.slop)}, {"slop", to_json(P.slop)}},
+        "1 ulp inside the support set: the smallest weight", {"Edge"});
+    add({{"penetration", 1}, {"slop", 0}}, "slop 0: a touching contact weighs 1 (no division)", {"Edge"});
+  } else if (fn == "cancel_resting_velocity") {
+    add({{"v", Json::array({3, -kOne / 10, 0})}, {"v_support", zero}, {"n", up}, {"gap_speed", kOne / 20},
+         {"rest_speed", to_json(P.rest_speed)}},
+        "approach faster than the gap closes: kept at -gap_speed", {"Edge"});
   } else if (fn == "low_speed_restitution") {
     add({{"e", 32768},
          {"v_n", to_json(-P.restitution_min_speed)},

@@ -164,6 +164,7 @@ class World {
   std::vector<int> support_;          // per body: index of its first support contact, -1 if none
   std::vector<std::pair<int, int>> rests_on_;  // stage 9 scratch: (body, dynamic body it rests on), sorted (eq 109)
   std::vector<Vec3<T>> support_n_;    // per body: its support normal (4.1), zero if none
+  std::vector<T> support_gap_;        // per body: its support gap (75), the smallest gap of its supports
   std::vector<Vec3<T>> corrected_from_;  // per body: its position before this frame's correction (eq 89 order)
   std::vector<int> order_;            // eq 110: the pair contacts that correct, bottom up
   std::vector<Vec3<T>> turn_;         // eq 111: per body, the turn (rad) this frame's correction gave it

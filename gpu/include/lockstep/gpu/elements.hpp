@@ -37,6 +37,8 @@ using lockstep::settle_linear_velocity;
 using lockstep::solve_contact;
 using lockstep::solve_manifold;
 using lockstep::SolveCounts;
+using lockstep::support_gap;
+using lockstep::support_weight;
 using lockstep::update_sleep;
 using lockstep::wake_test;
 using lockstep::warm_start_contact;

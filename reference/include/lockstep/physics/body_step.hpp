@@ -26,12 +26,13 @@ LS_HD void integrate_velocity(Vec3<T>& v, Vec3<T>& w, bool gravity, bool damping
 // Stage 6 for one supported awake body, linear part: eq 75 against the
 // support's velocity v_support (0 for an immovable support), then eq 77 on
 // the velocity relative to it (`relative`, the oriented-box model) or on v
-// (the source's AABB model). n is the body's support normal (4.1). Returns
-// the speed eq 77 judged, which righting (eqs 67-71) uses.
+// (the source's AABB model). n is the body's support normal (98), gap its
+// support gap (Part 4: 0 when a support contact touches). Returns the speed
+// eq 77 judged, which righting (eqs 67-71) uses.
 template <class T>
-LS_HD T settle_linear_velocity(Vec3<T>& v, const Vec3<T>& v_support, const Vec3<T>& n, const Params<T>& P,
-                               bool relative) {
-  v = cancel_resting_velocity(v, v_support, n, P.rest_speed);  // eq 75
+LS_HD T settle_linear_velocity(Vec3<T>& v, const Vec3<T>& v_support, const Vec3<T>& n, const T& gap,
+                               const Params<T>& P, bool relative) {
+  v = cancel_resting_velocity(v, v_support, n, gap * P.inv_dt, P.rest_speed);  // eq 75
   const Vec3<T> base = relative ? v_support : Vec3<T>{};  // the source's AABB model: eq 77 on v itself
   const Vec3<T> rel = v - base;
   const T speed = length(rel);

@@ -56,16 +56,39 @@ LS_HD Vec3<T> regime_damping(const Vec3<T>& w, const T& alignment, const Params<
   return w;
 }
 
-// eq 75 (4.4): on a support contact with normal n (pointing from the support
-// to the body), a slow relative normal velocity (|(v - v_s).n| < rest_speed,
-// v_s the supporting body's velocity, 0 for the ground) is removed:
-// v' = v - ((v - v_s).n) n. Bodies are visited in ascending height (then
-// index), so a stack comes to rest from the bottom up in one pass.
+// eq 98 (Part 4): the weight of a support contact in its body's support
+// normal: 1 when touching (penetration >= 0), fading linearly to 0 as its
+// gap grows to slop: (penetration + slop) / slop for -slop < penetration < 0
+// (that case implies slop > 0, so slop = 0 divides by nothing). A contact
+// that leaves or joins the support set (penetration > -slop) then turns the
+// support normal by nothing, not by a jump.
+template <class T>
+LS_HD T support_weight(const T& penetration, const T& slop) {
+  if (!(penetration < T{})) return Num<T>::from_int(1);
+  return (penetration + slop) / slop;
+}
+
+// The gap of a support contact (Part 4, eq 75): max(0, -penetration). A
+// body's support gap is the smallest of its support contacts' gaps.
+template <class T>
+LS_HD T support_gap(const T& penetration) { return Num<T>::max(T{}, -penetration); }
+
+// eq 75 (4.4): with n the body's support normal (pointing from the support
+// to the body) and v_s the supporting body's velocity (0 for the ground), a
+// slow relative normal velocity (|vn| < rest_speed, vn = (v - v_s).n) is
+// removed but for an approach that closes the support gap g this frame:
+// vn' = max(min(vn, 0), -gap_speed), gap_speed = g / dt; v' = v - (vn - vn') n.
+// A touching body (g = 0) keeps no normal velocity; a body whose nearest
+// support is a speculative gap settles onto it instead of hovering on it.
+// Bodies are visited in ascending height (then index), so a stack comes to
+// rest from the bottom up in one pass.
 template <class T>
 LS_HD Vec3<T> cancel_resting_velocity(const Vec3<T>& v, const Vec3<T>& v_support, const Vec3<T>& n,
-                                      const T& rest_speed) {
+                                      const T& gap_speed, const T& rest_speed) {
   const T vn = dot(v - v_support, n);
-  return Num<T>::abs(vn) < rest_speed ? v - n * vn : v;
+  if (!(Num<T>::abs(vn) < rest_speed)) return v;
+  const T keep = Num<T>::max(Num<T>::min(vn, T{}), -gap_speed);
+  return v - n * (vn - keep);
 }
 
 // eq 77 (4.6): a supported body slower than settle_speed loses a fraction of its velocity.

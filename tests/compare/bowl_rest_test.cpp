@@ -1,0 +1,136 @@
+// A box settling in the SDF bowl (docs/COMPARE.md "A box hovering on the
+// bowl", the shrunk AgreementProp case of seed 6): it must come to rest
+// touching the bowl and fall asleep once, on time. Before eqs 75 and 98 took
+// the support gap and weights, it hovered 0.93-1.05 mm off the bowl on
+// speculative contacts (75 cancelled the approach that would have closed
+// them), its corners crossed in and out of the support set, the support
+// normal jumped, the righting torque (69) kicked it and its sleep counter
+// restarted at 25: the fixed engine slept at frame 128, the nudged double
+// runs at 95-112.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <iostream>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "ensemble.hpp"
+#include "lockstep/builtin_scenes.hpp"
+#include "lockstep/world.hpp"
+
+namespace {
+
+using namespace lockstep;
+
+// The shrunk scene: a 0.97 x 1.25 x 1.22 m box of 2.25 kg thrown into the
+// bowl (a sphere of radius 6 about (0, 7, 0), floor at y = 1), as the fixed
+// engine sees it (constants rounded to Q16.16).
+Scene bowl_landing() {
+  Scene s;
+  s.name = "bowl_landing";
+  s.frames = 480;
+  s.effects.sdf = true;
+  s.ground.height = 0.0;
+  s.ground.material = {0.0, 0.5};
+  s.sdfs = builtin_scene("bowl")->sdfs;
+  s.sdfs[0].material = {0.375, 0.40625};
+  BodyDesc b;
+  b.half_extents = {0.484375, 0.625, 0.609375};
+  b.mass = 2.25;
+  b.position = {-0.375, 2.75, -0.625};
+  b.orientation = {0.9569403357322088, 0.06434446906536402, 0.29028467725446233, -0.003190599582588133};
+  b.velocity = {-1.625, 0.375, 0.25};
+  b.angular_velocity = {-0.4375, -0.125, -0.1875};
+  b.material = {0.375, 0.46875};
+  s.bodies = {b};
+  return lockstep_test::as_fixed_sees_it(s);
+}
+
+// What one run of the scene shows about the box's rest.
+struct Landing {
+  int sleep_frame = -1;       // -1: awake at the end
+  int restarts = 0;           // frames its sleep counter fell to 0 from drowsy_frames or more
+  double worst_hover = 0.0;   // the largest gap (m) of its nearest bowl sample while a sleep candidate
+  int worst_hover_frame = 0;
+};
+
+template <class T>
+Landing land(const Scene& scene) {
+  World<T> w(scene);
+  const int drowsy = scene.constants.drowsy_frames;
+  Landing r;
+  int last = 0;
+  while (w.frame() < scene.frames) {
+    w.step();
+    const Body<T>& b = w.body(0);
+    if (last >= drowsy && b.sleep_counter == 0 && !b.asleep) ++r.restarts;
+    last = b.sleep_counter;
+    if (b.sleep_counter > 0) {  // a sleep candidate this frame (eq 78): slow, aligned, supported
+      double nearest = -1.0;
+      for (const Contact<T>& c : w.contacts())
+        if (c.a == 0 && c.b <= -2) nearest = std::max(nearest, Num<T>::to_double(c.penetration));
+      if (-nearest > r.worst_hover) {
+        r.worst_hover = -nearest;
+        r.worst_hover_frame = w.frame();
+      }
+    }
+    if (b.asleep) {
+      r.sleep_frame = b.sleep_frame;
+      break;
+    }
+  }
+  return r;
+}
+
+// The sleep frames of double started from nudged states (2^-22 to 2^-10, 16
+// sign patterns each: lockstep_test::nudged), on the fixed engine's model.
+struct Spread {
+  int lo = -1, hi = -1, awake = 0;
+};
+const Spread& ensemble_spread() {
+  static const Spread s = [] {
+    const Scene model = lockstep_test::ieee_model_of(bowl_landing());
+    Spread out;
+    for (const double scale : {0x1p-22, 0x1p-16, 0x1p-13, 0x1p-10})
+      for (int k = 0; k < 16; ++k) {
+        const int f = land<double>(lockstep_test::nudged(model, scale, k)).sleep_frame;
+        if (f < 0) {
+          ++out.awake;
+          continue;
+        }
+        out.lo = out.lo < 0 ? f : std::min(out.lo, f);
+        out.hi = std::max(out.hi, f);
+      }
+    return out;
+  }();
+  return s;
+}
+
+template <class T>
+class BowlRest : public ::testing::Test {};
+using Engines = ::testing::Types<Q16, float, double>;
+TYPED_TEST_SUITE(BowlRest, Engines);
+
+// On fixed (the scene), float and double (the fixed engine's model of it):
+// the box touches the bowl while it comes to rest (its nearest sample within
+// slop / 4 of the surface in every frame it is a sleep candidate), its sleep
+// counter never restarts once drowsy, and it falls asleep within the spread
+// of the nudged double runs.
+TYPED_TEST(BowlRest, BoxSettlesTouchingTheBowlAndSleepsOnce) {
+  using T = TypeParam;
+  const Scene scene = bowl_landing();
+  const Landing r = land<T>(std::is_same_v<T, Q16> ? scene : lockstep_test::ieee_model_of(scene));
+  const Spread& e = ensemble_spread();
+  ASSERT_EQ(e.awake, 0) << "every nudged double run sleeps";
+  ASSERT_GE(r.sleep_frame, 0) << "the box is awake at frame " << scene.frames;
+  EXPECT_EQ(r.restarts, 0) << "its sleep counter restarted after reaching drowsy_frames";
+  EXPECT_LE(r.worst_hover, scene.constants.slop / 4)
+      << "at rest it hovers " << r.worst_hover * 1000 << " mm off the bowl (frame " << r.worst_hover_frame << ")";
+  EXPECT_GE(r.sleep_frame, e.lo) << "the nudged double runs sleep at " << e.lo << "-" << e.hi;
+  EXPECT_LE(r.sleep_frame, e.hi) << "the nudged double runs sleep at " << e.lo << "-" << e.hi;
+  std::cout << "sleep frame " << r.sleep_frame << " (ensemble " << e.lo << "-" << e.hi << "), worst gap at rest "
+            << r.worst_hover * 1000 << " mm\n";
+}
+
+}  // namespace
