@@ -92,7 +92,7 @@ class Pipeline final : public PipelineBase {
     oriented_ = s.oriented;
     if (oriented_) {  // eqs 97, 107: every body's growth starts at half the tolerance; eq 108's records
       up(grow_, std::vector<float>(n, sc_.half_tol));
-      sc_.grow = grow_.data();  // eqs 97, 107: the ground and SDF tolerances grow with the reach
+      sc_.grow = grow_.data();  // eqs 97, 107: the ground tolerance grows with the reach
       for (auto* l : {&ready_, &sleep_sw_[0], &sleep_sw_[1], &wake_sw_[0], &wake_sw_[1], &rest_count_}) l->resize(n + 1);
       be_.fill_int(rest_count_.data(), 0, n + 1);
       rest_body_.resize(kMaxRests * n + 1);
@@ -358,7 +358,7 @@ void Pipeline<B>::step() {
   if (n_awake > 0 && (fx_.gravity || fx_.damping || contacts || oriented_)) {
     awake_grid_.bounds.resize(static_cast<std::size_t>(n_awake));
     IntegrateVelocityK iv{active, body_, sc_, contacts ? awake_grid_.bounds.data() : nullptr};
-    iv.grow = oriented_ ? grow_.data() : nullptr;  // eqs 97, 107: also the ground and SDF tolerances
+    iv.grow = oriented_ ? grow_.data() : nullptr;  // eqs 97, 107: also the ground tolerance
     iv.integrate_end = integrated;
     be_.for_n(n_awake, iv);
   }

@@ -222,7 +222,7 @@ struct SceneConsts {
   float relaxation = 1.0f;
   bool oriented = false;  // the oriented-box pair model (docs/SPEC.md 2.4, eqs 100-110); false: the source's AABB model
   const float* grow = nullptr;  // oriented-box model: per body, its growth this frame (eqs 97, 107); null: AABB model
-  // eqs 97, 107: body i's tolerance for ground corners and SDF samples.
+  // eqs 97, 107: body i's tolerance for ground corners.
   LS_HD float immovable_tol(int i) const {
     return grow != nullptr ? immovable_tolerance(ro(grow + i), half_tol, P.contact_tolerance) : P.contact_tolerance;
   }
@@ -768,7 +768,7 @@ struct ContactsK {
     for (int v = 0; v < sc.n_sdf; ++v) {
       const F4 mat = sc.sdf_material[v];
       for (int s = 0; s < 9; ++s) {
-        const SdfContact<float> c = sdf_sample_contact(p, R, h, sc.sdf[v], s, itol);
+        const SdfContact<float> c = sdf_sample_contact(p, R, h, sc.sdf[v], s, sc.P.contact_tolerance);  // eq 97 (no reach)
         const int g = (k * sc.n_sdf + v) * 9 + s;
         const F4 c0 = f4(c.n, c.penetration), c1 = f4(c.point, c.hit ? 1.0f : 0.0f);
         sdf_c0[g] = c0;

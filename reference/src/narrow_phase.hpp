@@ -78,8 +78,10 @@ void World<T>::narrow_phase() {
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     const Body<T>& b = bodies_[i];
     if (!b.awake()) continue;  // 7.3
-    // eqs 97, 107: ground corners and SDF samples are speculative contacts
-    // within the contact tolerance plus, oriented-box model, the body's reach.
+    // eqs 97, 107: ground corners are speculative contacts within the contact
+    // tolerance plus, oriented-box model, the body's reach; SDF samples within
+    // the tolerance (with the reach a box came to rest 0.5 mm off the bowl:
+    // BowlRest).
     const T reach_tol = oriented ? immovable_tolerance(grow_[i], half_tol, P_.contact_tolerance) : P_.contact_tolerance;
     if (scene_.effects.ground && scene_.ground.present) {
       // eqs 44-46 refined by eq 84: every corner below the plane, or above it by
@@ -117,7 +119,7 @@ void World<T>::narrow_phase() {
         const int first = static_cast<int>(contacts_.size());
         int deepest = -1;
         for (int s = 0; s < 9; ++s) {
-          const SdfContact<T> sc = sdf_sample_contact(b.p, b.R, b.half, g, s, reach_tol);  // eqs 33-37, 97, 107
+          const SdfContact<T> sc = sdf_sample_contact(b.p, b.R, b.half, g, s, P_.contact_tolerance);  // eqs 33-37, 97
           if (!sc.hit) continue;
           Contact<T> c;
           c.a = static_cast<int>(i);

@@ -200,7 +200,7 @@ Json f_speculative_reach(In in, const std::string& p) {
   return Json{{"reach", to_json(speculative_reach(vec_at(in, "v", p), vec_at(in, "w", p), vec_at(in, "h", p),
                                                   q16_at(in, "dt", p)))}};
 }
-// eqs 97, 107: the ground and SDF tolerance of a body from its growth.
+// eqs 97, 107: the ground tolerance of a body from its growth.
 Json f_immovable_tolerance(In in, const std::string& p) {
   return Json{{"tolerance", to_json(immovable_tolerance(q16_at(in, "growth", p), q16_at(in, "half_tol", p),
                                                         q16_at(in, "tol", p)))}};
@@ -560,7 +560,7 @@ const std::vector<Formula>& formulas() {
        f_speculative_reach},
       {"immovable_tolerance",
        {97, 107},
-       "(growth - half_tol) + tol: a body's ground corners and SDF samples are contacts within it (oriented-box "
+       "(growth - half_tol) + tol: a body's ground corners are contacts within it (oriented-box "
        "model; growth = half_tol + speculative_reach as the broadphase formed it)",
        f_immovable_tolerance},
       {"support_moved",

@@ -58,8 +58,8 @@ LS_HD T speculative_reach(const Vec3<T>& v, const Vec3<T>& w, const Vec3<T>& h, 
   return (Num<T>::min(max_abs(v), cap) + corner) * dt;
 }
 
-// eqs 97, 107: the contact tolerance of a body's ground corners and SDF
-// samples with the oriented-box model, from its growth g = tol/2 + r of the
+// eqs 97, 107: the contact tolerance of a body's ground corners with the
+// oriented-box model, from its growth g = tol/2 + r of the
 // broadphase: the tolerance plus its reach, (g - tol/2) + tol, formed from g
 // so that every engine that keeps g rounds it alike. A cube landing at 5 m/s
 // is caught the frame before it would sink 8 cm into the ground.
