@@ -676,8 +676,9 @@ struct PreviousContacts {
 // - finds its contacts in World<T>'s order (ground corners, SDF samples,
 //   bodies by index) and its support: the touching contacts whose normal
 //   towards it is within acos(support_normal_min) of up; the first is the
-//   support, the normalised sum of their normals weighted by support_weight
-//   the support normal (98), the smallest of their gaps the support gap (75);
+//   support, the smallest of their gaps the support gap (75); the normalised
+//   sum of the up-facing normals of its contacts within support_fade,
+//   weighted by support_weight, the support normal (98);
 // - counts its contacts with other active bodies per normal direction (the
 //   Jacobi mass splitting);
 // - prepares each contact for the solver (eqs 48-50, 58, 76, 86) with the
@@ -733,14 +734,20 @@ struct ContactsK {
     int support = kNoSupport;
     Vec3<float> support_sum{};
     float support_gap_min{};
+    // A contact within support_fade whose normal towards i faces up
+    // (n.y >= support_normal_min): its weighted normal joins the support
+    // normal (eq 98); within slop it is a support contact (the first names the
+    // support, the smallest gap is the support gap, eq 75).
+    const float fade = sc.P.support_fade;  // max(slop, |g dt| dt): every support contact weighs > 0
     auto add_support = [&](int who, const Vec3<float>& n, float penetration) {
+      support_sum += n * support_weight(penetration, fade);  // eq 98
+      if (!(penetration > -slop)) return;
       const float gap = support_gap(penetration);
       if (support == kNoSupport) {
         support = who;
         support_gap_min = gap;
       }
       support_gap_min = Num<float>::min(support_gap_min, gap);
-      support_sum += n * support_weight(penetration, slop);  // eq 98
     };
     // A contact with an immovable thing: its preparation and warm start.
     auto immovable = [&](int e, const Vec3<float>& r1, const Vec3<float>& n, float e2, float mu2, bool cached_ok) {
@@ -759,7 +766,7 @@ struct ContactsK {
         const float depth = ground_corner_depth(p, R, h, c, sc.ground_y, corner);
         if (!(depth > -itol)) continue;
         ++ground_contacts;
-        if (depth > -slop && up.y >= min_up) add_support(kStaticSupport, up, depth);
+        if (depth > -fade && up.y >= min_up) add_support(kStaticSupport, up, depth);
         mask |= 1 << c;
         immovable(c, corner - p, up, sc.ground_e, sc.ground_mu, ((prev_mask >> c) & 1) != 0);
       }
@@ -779,7 +786,7 @@ struct ContactsK {
           continue;
         }
         ++sdf_contacts;
-        if (c.penetration > -slop && c.n.y >= min_up) add_support(kStaticSupport, c.n, c.penetration);
+        if (c.penetration > -fade && c.n.y >= min_up) add_support(kStaticSupport, c.n, c.penetration);
         immovable(e, xyz(c1) - p, xyz(c0), mat.x, mat.y, had);
       }
     }
@@ -840,7 +847,7 @@ struct ContactsK {
         const int prev_count = prev_t >= 0 ? ro(&prev.man[prev_t].count) : 0;
         SolveCounts here;
         for (int c = 0; c < mf.count; ++c) {
-          if (mf.penetration[c] > -slop && n_i.y >= min_up) add_support(j, n_i, mf.penetration[c]);
+          if (mf.penetration[c] > -fade && n_i.y >= min_up) add_support(j, n_i, mf.penetration[c]);
           const Vec3<float> r1 = mf.point[c] - (lower ? p : pj), r2 = mf.point[c] - (lower ? pj : p);
           ContactState<float> cs =
               prepare_contact(pick(lower, self0, other0), r1, pick(lower, other0, self0), r2, mf.n,
@@ -867,7 +874,7 @@ struct ContactsK {
       if (!j_awake) ++immovable_bodies;
       if (edges.mate != nullptr) init_edge(edges, d.lists, i, t, j, j_awake, p.y, pj.y);
       if (j_awake && ((directions >> shift) & 255u) < 255u) directions += Counter{1} << shift;
-      if (pc.penetration > -slop && n_i.y >= min_up) add_support(j, n_i, pc.penetration);
+      if (pc.penetration > -fade && n_i.y >= min_up) add_support(j, n_i, pc.penetration);
       const BodyView<float> other0 = view_of(b, j, b.vel, b.ang);
       const Vec3<float> r1 = pc.point - (lower ? p : pj), r2 = pc.point - (lower ? pj : p);
       const float e_o = ro(b.half + j).w, mu_o = ro(b.inert + j).w;

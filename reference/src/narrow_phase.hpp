@@ -144,27 +144,31 @@ void World<T>::narrow_phase() {
   // Support contacts (settling, sleep): touching to within slop (penetration
   // > -slop: rounding noise of a resting body is not a gap, a speculative gap
   // is) with a normal within acos(support_normal_min) of up. A body's support
-  // normal (98) is the normalised sum of those normals (turned towards it),
-  // each weighted by support_weight (1 touching, fading to 0 at a gap of
-  // slop): (0, 1, 0) on the ground, the mean surface normal under a box
-  // resting on a curved SDF, turning smoothly as a corner lifts off. Its
-  // support gap (75) is the smallest gap of those contacts.
+  // normal (98) is the normalised sum of the normals (turned towards it) of
+  // its contacts within support_fade (max(slop, |g dt| dt); |g dt| dt: what
+  // it falls from rest in a frame) that face up so, each weighted by
+  // support_weight (1 touching, fading to 0 at a gap of support_fade; every
+  // support contact weighs > 0): (0, 1, 0) on the ground, the mean
+  // surface normal under a box resting on a curved SDF, turning smoothly as a
+  // corner rocks on and off. Its support gap (75) is the smallest gap of its
+  // support contacts.
   std::fill(support_.begin(), support_.end(), -1);
   std::fill(support_n_.begin(), support_n_.end(), Vec3<T>{});
   std::fill(support_gap_.begin(), support_gap_.end(), T{});
   auto add_support = [&](int body, std::size_t ci, const Vec3<T>& n, const T& penetration) {
     const auto i = static_cast<std::size_t>(body);
+    support_n_[i] += n * support_weight(penetration, P_.support_fade);
+    if (!(penetration > -P_.slop)) return;
     const T gap = support_gap(penetration);
     if (support_[i] < 0) {
       support_[i] = static_cast<int>(ci);
       support_gap_[i] = gap;
     }
     support_gap_[i] = Num<T>::min(support_gap_[i], gap);
-    support_n_[i] += n * support_weight(penetration, P_.slop);
   };
   for (std::size_t ci = 0; ci < contacts_.size(); ++ci) {
     const Contact<T>& c = contacts_[ci];
-    if (!(c.penetration > -P_.slop)) continue;
+    if (!(c.penetration > -P_.support_fade)) continue;
     if (c.n.y >= P_.support_normal_min) add_support(c.a, ci, c.n, c.penetration);
     if (c.b >= 0 && -c.n.y >= P_.support_normal_min) add_support(c.b, ci, -c.n, c.penetration);
   }

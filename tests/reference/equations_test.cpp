@@ -457,7 +457,11 @@ TEST(SettleTest, Eq98SupportWeight) {
   EXPECT_DOUBLE_EQ(support_weight(0.003, 0.001), 1.0);
   EXPECT_NEAR(support_weight(-0.00025, 0.001), 0.75, 1e-12);
   EXPECT_NEAR(support_weight(-0.000999, 0.001), 0.001, 1e-12);
-  EXPECT_DOUBLE_EQ(support_weight(0.0005, 0.0), 1.0);  // slop 0: touching contacts only, no division
+  EXPECT_DOUBLE_EQ(support_weight(0.0005, 0.0), 1.0);  // width 0: touching contacts only, no division
+  EXPECT_DOUBLE_EQ(support_weight(-0.0005, 0.0), 0.0);
+  EXPECT_DOUBLE_EQ(support_weight(-0.001, 0.001), 0.0);  // a gap of the width: weight 0, continuous
+  EXPECT_DOUBLE_EQ(support_weight(-0.004, 0.001), 0.0);  // beyond it: 0, never negative
+  EXPECT_NEAR(support_weight(-0.0025, 0.01), 0.75, 1e-12);
   EXPECT_DOUBLE_EQ(support_gap(0.002), 0.0);
   EXPECT_DOUBLE_EQ(support_gap(-0.0004), 0.0004);
 }

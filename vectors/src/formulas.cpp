@@ -324,7 +324,7 @@ Json f_cancel_resting(In in, const std::string& p) {
                                                     q16_at(in, "gap_speed", p), q16_at(in, "rest_speed", p)))}};
 }
 Json f_support_weight(In in, const std::string& p) {
-  return Json{{"w", to_json(support_weight(q16_at(in, "penetration", p), q16_at(in, "slop", p)))}};
+  return Json{{"w", to_json(support_weight(q16_at(in, "penetration", p), q16_at(in, "width", p)))}};
 }
 Json f_settle_linear(In in, const std::string& p) {
   return Json{{"v", to_json(settle_linear(vec_at(in, "v", p), q16_at(in, "speed", p), params_at(in, p)))}};
@@ -405,7 +405,7 @@ const std::vector<Formula>& formulas() {
        {91},
        "Appendix A.2: the constants (doubles) converted by eq 22 and the derived values computed in Q16 "
        "(half_dt = dt*0.5, inv_dt = 1/dt, gravity_dt = gravity*dt per component, damping factors "
-       "1 - lambda*dt, inv_cell_size = 1/cell_size, kd_dt = kd*dt, settle_factor = 1 - settle_damping, "
+       "1 - lambda*dt, inv_cell_size = 1/cell_size, kd_dt = kd*dt, support_fade = max(slop, length(gravity_dt)*dt), settle_factor = 1 - settle_damping, "
        "righting_min_axis = 2^-12)",
        f_params},
       {"apply_gravity", {1, 5}, "v + gravity_dt", f_apply_gravity},
@@ -495,7 +495,7 @@ const std::vector<Formula>& formulas() {
        "vn = dot(v - v_support, n); keep = max(min(vn, 0), -gap_speed); v - n * (vn - keep) if |vn| < rest_speed, "
        "else v",
        f_cancel_resting},
-      {"support_weight", {98}, "1 if penetration >= 0, else (penetration + slop) / slop", f_support_weight},
+      {"support_weight", {98}, "1 if penetration >= 0, 0 if penetration <= -width, else (penetration + width) / width", f_support_weight},
       {"settle_linear", {77}, "v * settle_factor if speed < settle_speed, else v", f_settle_linear},
       {"combined_restitution", {50}, "min(e1, e2)", f_combined_restitution},
       {"low_speed_restitution", {76}, "e if -v_n > restitution_min_speed, else 0", f_low_speed_restitution},
@@ -759,7 +759,7 @@ std::vector<Case> cases_for(const std::string& fn, Rng& rng) {
             {"gap_speed", to_json(k % 4 ? rng.q16(0, 0.1) : Q16{})},
             {"rest_speed", to_json(P.rest_speed)}};
     } else if (fn == "support_weight") {
-      in = {{"penetration", to_json(k % 3 ? -rng.q16(0, 0.0011) : rng.q16(0, 0.01))}, {"slop", to_json(P.slop)}};
+      in = {{"penetration", to_json(k % 3 ? -rng.q16(0, 0.003) : rng.q16(0, 0.01))}, {"width", to_json(P.support_fade)}};
     } else if (fn == "settle_linear") {
       in = {{"v", random_raw_vec(rng, -0.4, 0.4)}, {"speed", to_json(rng.q16(0, 0.6))}};
     } else if (fn == "combined_restitution") {
@@ -959,10 +959,13 @@ std::vector<Case> cases_for(const std::string& fn, Rng& rng) {
     add({{"v_n", 0}, {"penetration", to_json(P.wake_penetration)}}, "penetration exactly wake_penetration (strict >)",
         {"Edge"});
   } else if (fn == "support_weight") {
-    add({{"penetration", 0}, {"slop", to_json(P.slop)}}, "touching: weight 1", {"Edge"});
-    add({{"penetration", to_json(Q16::from_raw(1) - P.slop)}, {"slop", to_json(P.slop)}},
-        "1 ulp inside the support set: the smallest weight", {"Edge"});
-    add({{"penetration", 1}, {"slop", 0}}, "slop 0: a touching contact weighs 1 (no division)", {"Edge"});
+    add({{"penetration", 0}, {"width", to_json(P.support_fade)}}, "touching: weight 1", {"Edge"});
+    add({{"penetration", to_json(Q16::from_raw(1) - P.support_fade)}, {"width", to_json(P.support_fade)}},
+        "1 ulp inside the width: the smallest weight", {"Edge"});
+    add({{"penetration", to_json(-P.support_fade)}, {"width", to_json(P.support_fade)}},
+        "a gap of exactly the width: weight 0", {"Edge"});
+    add({{"penetration", 1}, {"width", 0}}, "width 0: a touching contact weighs 1 (no division)", {"Edge"});
+    add({{"penetration", -1}, {"width", 0}}, "width 0: a gap weighs 0 (no division)", {"Edge"});
   } else if (fn == "cancel_resting_velocity") {
     add({{"v", Json::array({3, -kOne / 10, 0})}, {"v_support", zero}, {"n", up}, {"gap_speed", kOne / 20},
          {"rest_speed", to_json(P.rest_speed)}},

@@ -67,6 +67,7 @@ const std::vector<ParamField>& param_fields() {
       {"baumgarte", &P::baumgarte, nullptr, nullptr},
       {"solver_iterations", nullptr, nullptr, &P::solver_iterations},
       {"contact_tolerance", &P::contact_tolerance, nullptr, nullptr},
+      {"support_fade", &P::support_fade, nullptr, nullptr},
       {"kp", &P::kp, nullptr, nullptr},
       {"kd_dt", &P::kd_dt, nullptr, nullptr},
       {"speed_factor_min", &P::speed_factor_min, nullptr, nullptr},

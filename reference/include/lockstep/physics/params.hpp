@@ -18,6 +18,7 @@ struct Params {
   T slop, baumgarte;                // eq 63
   int solver_iterations;
   T contact_tolerance;              // eqs 84, 97: speculative contact distance
+  T support_fade;                   // eq 98: max(slop, |g dt| dt) (m); |g dt| dt: how far a body falls from rest in one frame
   T kp, kd_dt, speed_factor_min, speed_factor_max;  // eqs 69-71
   T support_normal_min;
   T align_fine, align_good, align_fair, damp_fine, damp_good, damp_fair;  // eqs 72-74
@@ -48,6 +49,7 @@ struct Params {
     p.baumgarte = n(c.baumgarte);
     p.solver_iterations = c.solver_iterations;
     p.contact_tolerance = n(c.contact_tolerance);
+    p.support_fade = Num<T>::max(p.slop, length(p.gravity_dt) * p.dt);
     p.kp = n(c.kp);
     p.kd_dt = n(c.kd) * p.dt;
     p.speed_factor_min = n(c.speed_factor_min);

@@ -56,16 +56,18 @@ LS_HD Vec3<T> regime_damping(const Vec3<T>& w, const T& alignment, const Params<
   return w;
 }
 
-// eq 98 (Part 4): the weight of a support contact in its body's support
-// normal: 1 when touching (penetration >= 0), fading linearly to 0 as its
-// gap grows to slop: (penetration + slop) / slop for -slop < penetration < 0
-// (that case implies slop > 0, so slop = 0 divides by nothing). A contact
-// that leaves or joins the support set (penetration > -slop) then turns the
-// support normal by nothing, not by a jump.
+// eq 98 (Part 4): the weight of a contact in its body's support normal: 1
+// when touching (penetration >= 0), fading linearly to 0 as its gap grows to
+// `width` (support_fade = max(slop, |g dt| dt); |g dt| dt is the distance a
+// body falls from rest in one frame: 2.7 mm): (penetration + width) / width for -width < penetration
+// < 0, 0 beyond (so width = 0 divides by nothing). A corner that rocks on and
+// off the surface by a millimetre or two turns the support normal by a part
+// of its swing, not by a jump.
 template <class T>
-LS_HD T support_weight(const T& penetration, const T& slop) {
+LS_HD T support_weight(const T& penetration, const T& width) {
   if (!(penetration < T{})) return Num<T>::from_int(1);
-  return (penetration + slop) / slop;
+  if (!(penetration > -width)) return T{};
+  return (penetration + width) / width;
 }
 
 // The gap of a support contact (Part 4, eq 75): max(0, -penetration). A
