@@ -83,7 +83,7 @@ struct Landing {
   int restarts = 0;           // frames its sleep counter fell to 0 from drowsy_frames or more
   double worst_hover = 0.0;   // the largest gap (m) of its nearest bowl sample while a sleep candidate
   int worst_hover_frame = 0;
-  int rocks = 0;              // frames a slow box (|v| < 0.1 m/s) reversed a spin above 0.05 rad/s
+  int rocks = 0;              // frames a slow box (|v| < 0.1 m/s in this frame and the last) reversed a spin above 0.05 rad/s
 };
 
 template <class T>
@@ -93,13 +93,17 @@ Landing land(const Scene& scene) {
   Landing r;
   int last = 0;
   Vec3<double> w_last{};
+  double speed_last = 1e9;
   while (w.frame() < scene.frames) {
     w.step();
     const Body<T>& b = w.body(0);
     const Vec3<double> spin{Num<T>::to_double(b.w.x), Num<T>::to_double(b.w.y), Num<T>::to_double(b.w.z)};
     const double speed = length(Vec3<double>{Num<T>::to_double(b.v.x), Num<T>::to_double(b.v.y), Num<T>::to_double(b.v.z)});
-    if (speed < 0.1 && length(spin) > 0.05 && length(w_last) > 0.05 && dot(spin, w_last) < 0.0) ++r.rocks;
+    // Both frames slow: the landing frame, whose impact turns the spin round, is no rocking.
+    if (speed < 0.1 && speed_last < 0.1 && length(spin) > 0.05 && length(w_last) > 0.05 && dot(spin, w_last) < 0.0)
+      ++r.rocks;
     w_last = spin;
+    speed_last = speed;
     if (last >= drowsy && b.sleep_counter == 0 && !b.asleep) ++r.restarts;
     last = b.sleep_counter;
     if (b.sleep_counter > 0) {  // a sleep candidate this frame (eq 78): slow, aligned, supported
