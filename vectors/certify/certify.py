@@ -392,7 +392,11 @@ def build_and_run(build, work, src, timeout, scenes):
     if rc not in (0, 1):
         res["error"] = "run failed (exit %d):\n%s" % (rc, err[-4000:])
         return res
-    res["output"] = parse_driver_output(out)
+    try:
+        res["output"] = parse_driver_output(out)
+    except (ValueError, IndexError, TypeError) as e:  # a garbled record: the build fails, naming the line; the matrix goes on
+        res["error"] = "unreadable output: %s" % e
+        return res
     res["ok"] = True
     return res
 
@@ -409,7 +413,8 @@ def parse_driver_output(text):
             cur = {"bodies": int(f[3]), "frames": int(f[5]), "hashes": [], "sleep": [], "error": None, "complete": False}
             out["scenes"][f[1]] = cur
         elif f[0] == "h":
-            assert int(f[1]) == len(cur["hashes"]), "hash records out of order"
+            if cur is None or len(f) < 3 or not f[1].isdigit() or int(f[1]) != len(cur["hashes"]):
+                raise ValueError("hash record out of order or malformed: %r" % line[:200])
             cur["hashes"].append(f[2])
         elif f[0] == "sleep":
             cur["sleep"].append(int(f[2]))

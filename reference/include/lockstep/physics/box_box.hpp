@@ -169,13 +169,23 @@ LS_HD void face_contact(const Vec3<T>& pr, const Mat3<T>& Rr, const Vec3<T>& hr,
     poly[c].id = c;
     poly[c].edge = c;
   }
-  // eq 104: clip against the reference face's 4 side planes.
+  // eq 104: clip against the reference face's 4 side planes, each moved out
+  // by the clip margin (2^-12 m), then clamp what is kept onto the face: an
+  // incident corner within the margin of a side plane stays that corner
+  // (same feature id, so the warm start of eq 96 finds it), whichever side
+  // of the plane rounding put it. Two boxes of one width stacked edge on edge
+  // otherwise traded corners for clip points with each ulp of drift.
   const int a1 = k == 0 ? 1 : 0, a2 = k == 2 ? 1 : 2;
+  const T margin = Num<T>::from_double(1.0 / 4096.0);
   int n = 4;
-  n = clip_side(poly, n, tmp, a1, one, hr[a1], 0);
-  n = clip_side(tmp, n, poly, a1, -one, hr[a1], 1);
-  n = clip_side(poly, n, tmp, a2, one, hr[a2], 2);
-  n = clip_side(tmp, n, poly, a2, -one, hr[a2], 3);
+  n = clip_side(poly, n, tmp, a1, one, hr[a1] + margin, 0);
+  n = clip_side(tmp, n, poly, a1, -one, hr[a1] + margin, 1);
+  n = clip_side(poly, n, tmp, a2, one, hr[a2] + margin, 2);
+  n = clip_side(tmp, n, poly, a2, -one, hr[a2] + margin, 3);
+  for (int c = 0; c < n; ++c) {
+    poly[c].x[a1] = Num<T>::min(Num<T>::max(poly[c].x[a1], -hr[a1]), hr[a1]);
+    poly[c].x[a2] = Num<T>::min(Num<T>::max(poly[c].x[a2], -hr[a2]), hr[a2]);
+  }
   // Depth below the reference face; points within the tolerance are kept.
   T depth[8];
   int keep[8];
