@@ -30,18 +30,24 @@ namespace {
 
 using namespace lockstep;
 
-// The shrunk scene: a 0.97 x 1.25 x 1.22 m box of 2.25 kg thrown into the
-// bowl (a sphere of radius 6 about (0, 7, 0), floor at y = 1), as the fixed
-// engine sees it (constants rounded to Q16.16).
-Scene bowl_landing() {
+// One box in the built-in bowl (a sphere of radius 6 about (0, 7, 0), floor
+// at y = 1) with the given material, 480 frames, as the fixed engine sees it
+// (constants rounded to Q16.16).
+Scene box_in_bowl(const char* name, const BodyDesc& box, const Material& bowl) {
   Scene s;
-  s.name = "bowl_landing";
+  s.name = name;
   s.frames = 480;
   s.effects.sdf = true;
   s.ground.height = 0.0;
   s.ground.material = {0.0, 0.5};
   s.sdfs = builtin_scene("bowl")->sdfs;
-  s.sdfs[0].material = {0.375, 0.40625};
+  s.sdfs[0].material = bowl;
+  s.bodies = {box};
+  return lockstep_test::as_fixed_sees_it(s);
+}
+
+// The shrunk scene: a 0.97 x 1.25 x 1.22 m box of 2.25 kg thrown into the bowl.
+Scene bowl_landing() {
   BodyDesc b;
   b.half_extents = {0.484375, 0.625, 0.609375};
   b.mass = 2.25;
@@ -50,21 +56,12 @@ Scene bowl_landing() {
   b.velocity = {-1.625, 0.375, 0.25};
   b.angular_velocity = {-0.4375, -0.125, -0.1875};
   b.material = {0.375, 0.46875};
-  s.bodies = {b};
-  return lockstep_test::as_fixed_sees_it(s);
+  return box_in_bowl("bowl_landing", b, {0.375, 0.40625});
 }
 
 // The shrunk scene of the rocking box: a 1.375 x 0.84 x 1.44 m box of
-// 3.375 kg dropped into the bowl from 3 m, as the fixed engine sees it.
+// 3.375 kg dropped into the bowl from 3 m.
 Scene bowl_rocking() {
-  Scene s;
-  s.name = "bowl_rocking";
-  s.frames = 480;
-  s.effects.sdf = true;
-  s.ground.height = 0.0;
-  s.ground.material = {0.0, 0.5};
-  s.sdfs = builtin_scene("bowl")->sdfs;
-  s.sdfs[0].material = {0.125, 0.53125};
   BodyDesc b;
   b.half_extents = {0.6875, 0.421875, 0.71875};
   b.mass = 3.375;
@@ -73,8 +70,7 @@ Scene bowl_rocking() {
   b.velocity = {0.875, 0.0, -0.375};
   b.angular_velocity = {0.0, 0.0, -0.125};
   b.material = {0.125, 0.6875};
-  s.bodies = {b};
-  return lockstep_test::as_fixed_sees_it(s);
+  return box_in_bowl("bowl_rocking", b, {0.125, 0.53125});
 }
 
 // What one run of the scene shows about the box's rest.
@@ -129,21 +125,19 @@ struct Spread {
   int lo = -1, hi = -1, awake = 0;
 };
 Spread spread_of(const Scene& scene) {
-  {
-    const Scene model = lockstep_test::ieee_model_of(scene);
-    Spread out;
-    for (const double scale : {0x1p-22, 0x1p-16, 0x1p-13, 0x1p-10})
-      for (int k = 0; k < 16; ++k) {
-        const int f = land<double>(lockstep_test::nudged(model, scale, k)).sleep_frame;
-        if (f < 0) {
-          ++out.awake;
-          continue;
-        }
-        out.lo = out.lo < 0 ? f : std::min(out.lo, f);
-        out.hi = std::max(out.hi, f);
+  const Scene model = lockstep_test::ieee_model_of(scene);
+  Spread out;
+  for (const double scale : {0x1p-22, 0x1p-16, 0x1p-13, 0x1p-10})
+    for (int k = 0; k < 16; ++k) {
+      const int f = land<double>(lockstep_test::nudged(model, scale, k)).sleep_frame;
+      if (f < 0) {
+        ++out.awake;
+        continue;
       }
-    return out;
-  }
+      out.lo = out.lo < 0 ? f : std::min(out.lo, f);
+      out.hi = std::max(out.hi, f);
+    }
+  return out;
 }
 const Spread& landing_spread() {
   static const Spread s = spread_of(bowl_landing());

@@ -38,8 +38,10 @@ struct BoxBoxTolerances {
   T rel;       // 0.05: a face axis wins unless the other separates by 5 % more
   T abs_;      // 0.0005 m: ... and by half a millimetre more
   T edge_min;  // 1/64: edge pairs closer to parallel than |a x b| = 1/64 give no axis
+  T clip_margin;  // 2^-12 m: eq 104's side planes are moved out by this for the clip
   static LS_HD BoxBoxTolerances make() {
-    return {Num<T>::from_double(0.05), Num<T>::from_double(0.0005), Num<T>::from_double(1.0 / 64.0)};
+    return {Num<T>::from_double(0.05), Num<T>::from_double(0.0005), Num<T>::from_double(1.0 / 64.0),
+            Num<T>::from_double(1.0 / 4096.0)};
   }
 };
 
@@ -143,7 +145,7 @@ LS_HD int clip_side(const ClipVertex<T>* in, int n, ClipVertex<T>* out, int a, c
 template <class T>
 LS_HD void face_contact(const Vec3<T>& pr, const Mat3<T>& Rr, const Vec3<T>& hr, int k, const T& sk,
                         const Vec3<T>& pi, const Mat3<T>& Ri, const Vec3<T>& hi, int ref_is_b, const T& tol,
-                        BoxManifold<T>& m) {
+                        const T& margin, BoxManifold<T>& m) {
   const T one = Num<T>::from_int(1);
   const Vec3<T> nr = axis(Rr, k) * sk;  // the reference face's outward normal (world)
   // eq 103: the incident face: the face of the incident box whose outward
@@ -170,13 +172,12 @@ LS_HD void face_contact(const Vec3<T>& pr, const Mat3<T>& Rr, const Vec3<T>& hr,
     poly[c].edge = c;
   }
   // eq 104: clip against the reference face's 4 side planes, each moved out
-  // by the clip margin (2^-12 m), then clamp what is kept onto the face: an
+  // by the clip margin (BoxBoxTolerances), then clamp what is kept onto the face: an
   // incident corner within the margin of a side plane stays that corner
   // (same feature id, so the warm start of eq 96 finds it), whichever side
   // of the plane rounding put it. Two boxes of one width stacked edge on edge
   // otherwise traded corners for clip points with each ulp of drift.
   const int a1 = k == 0 ? 1 : 0, a2 = k == 2 ? 1 : 2;
-  const T margin = Num<T>::from_double(1.0 / 4096.0);
   int n = 4;
   n = clip_side(poly, n, tmp, a1, one, hr[a1] + margin, 0);
   n = clip_side(tmp, n, poly, a1, -one, hr[a1] + margin, 1);
@@ -342,11 +343,11 @@ LS_HD BoxManifold<T> box_box_manifold(const Vec3<T>& pa, const Mat3<T>& Ra, cons
   if (!face_b) {
     const T sk = dot(d, A[ia]) < T{} ? -one : one;  // towards b; d.A = 0 takes +
     m.n = A[ia] * (-sk);
-    face_contact(pa, Ra, ha, ia, sk, pb, Rb, hb, 0, tol, m);
+    face_contact(pa, Ra, ha, ia, sk, pb, Rb, hb, 0, tol, pref.clip_margin, m);
   } else {
     const T sk = dot(d, B[ib]) > T{} ? -one : one;  // towards a (-d); d.B = 0 takes +
     m.n = B[ib] * sk;
-    face_contact(pb, Rb, hb, ib, sk, pa, Ra, ha, 1, tol, m);
+    face_contact(pb, Rb, hb, ib, sk, pa, Ra, ha, 1, tol, pref.clip_margin, m);
   }
   return m;
 }
