@@ -63,6 +63,7 @@ class Pipeline final : public PipelineBase {
     wake_flag_.resize(n + 1);
     be_.fill_int(wake_flag_.data(), 0, n + 1);
     support_idx_.resize(n + 1);
+    over_support_.resize(n + 1);
     support_n_.resize(n + 1);
     for (auto& b : settle_) b.resize(n + 1);
     p_tmp_.resize(n + 1);
@@ -273,6 +274,7 @@ class Pipeline final : public PipelineBase {
   Buf<Counter> dir_count_;
   Buf<F4> sdf_c0_, sdf_c1_, support_n_;
   Buf<int> support_idx_;
+  Buf<int> over_support_;  // eq 112, per body (written by ContactsK for the active ones)
   Buf<F4> settle_[2];
   Buf<F4> p_tmp_, q_tmp_;
   Buf<int> keep_, keep_scan_;
@@ -478,6 +480,7 @@ void Pipeline<B>::step() {
                  dir_count_.data(), ground_mask_[par].data(), immovable_.data(), vel_[1].data(),
                  ang_[1].data(), ctr_.data()};
     ck.grow = grow;
+    ck.over_support = over_support_.data();
     be_.for_n(n_active, ck);
   }
 
@@ -529,6 +532,7 @@ void Pipeline<B>::step() {
   // 6: settling sweeps but the last (which runs with the correction).
   be_.mark(kStageSettle);
   SettleSweep sweep{support_idx_.data(), support_n_.data(), vel_[last].data(), vel_[last].data(), oriented_};
+  if (oriented_) sweep.over = over_support_.data();
   if (fx_.settling && n_active > 0) {
     const int batch = std::max(1, opt_.settle_batch);
     for (int s = 0;;) {  // until every body's settled velocity is final

@@ -709,6 +709,7 @@ struct ContactsK {
   F4* wout;
   Counter* ctr;
   const float* grow = nullptr;  // oriented-box model: per body, its AABB growth (eqs 97, 107)
+  int* over_support = nullptr;  // per body: 1 when its centre of mass is over its support contacts (eq 112)
   LS_HD void operator()(int k) const {
     const BodyArrays& b = d.b;
     const SceneConsts& sc = d.sc;
@@ -739,8 +740,13 @@ struct ContactsK {
     // normal (eq 98); within slop it is a support contact (the first names the
     // support, the smallest gap is the support gap, eq 75).
     const float fade = sc.P.support_fade;  // max(slop, |g dt| dt): every support contact weighs > 0
-    auto add_support = [&](int who, const Vec3<float>& n, float penetration) {
+    Vec3<float> arms[kMaxSupportPoints];   // eq 112: the lever arms of its support contacts
+    int n_arms = 0;                        // kMaxSupportPoints + 1: too many to look at
+    bool loaded = false;                   // eq 112: it touches (within slop) something not a support
+    auto add_support = [&](int who, const Vec3<float>& n, float penetration, const Vec3<float>& point) {
       support_sum += n * support_weight(penetration, fade);  // eq 98
+      if (n_arms < kMaxSupportPoints) arms[n_arms] = point - p;
+      if (n_arms <= kMaxSupportPoints) ++n_arms;
       if (!(penetration > -slop)) return;
       const float gap = support_gap(penetration);
       if (support == kNoSupport) {
@@ -766,7 +772,8 @@ struct ContactsK {
         const float depth = ground_corner_depth(p, R, h, c, sc.ground_y, corner);
         if (!(depth > -itol)) continue;
         ++ground_contacts;
-        if (depth > -fade && up.y >= min_up) add_support(kStaticSupport, up, depth);
+        if (depth > -slop && !(up.y >= min_up)) loaded = true;
+        if (depth > -fade && up.y >= min_up) add_support(kStaticSupport, up, depth, corner);
         mask |= 1 << c;
         immovable(c, corner - p, up, sc.ground_e, sc.ground_mu, ((prev_mask >> c) & 1) != 0);
       }
@@ -786,7 +793,8 @@ struct ContactsK {
           continue;
         }
         ++sdf_contacts;
-        if (c.penetration > -fade && c.n.y >= min_up) add_support(kStaticSupport, c.n, c.penetration);
+        if (c.penetration > -slop && !(c.n.y >= min_up)) loaded = true;
+        if (c.penetration > -fade && c.n.y >= min_up) add_support(kStaticSupport, c.n, c.penetration, c.point);
         immovable(e, xyz(c1) - p, xyz(c0), mat.x, mat.y, had);
       }
     }
@@ -847,7 +855,8 @@ struct ContactsK {
         const int prev_count = prev_t >= 0 ? ro(&prev.man[prev_t].count) : 0;
         SolveCounts here;
         for (int c = 0; c < mf.count; ++c) {
-          if (mf.penetration[c] > -fade && n_i.y >= min_up) add_support(j, n_i, mf.penetration[c]);
+          if (mf.penetration[c] > -slop && !(n_i.y >= min_up)) loaded = true;
+          if (mf.penetration[c] > -fade && n_i.y >= min_up) add_support(j, n_i, mf.penetration[c], mf.point[c]);
           const Vec3<float> r1 = mf.point[c] - (lower ? p : pj), r2 = mf.point[c] - (lower ? pj : p);
           ContactState<float> cs =
               prepare_contact(pick(lower, self0, other0), r1, pick(lower, other0, self0), r2, mf.n,
@@ -874,7 +883,8 @@ struct ContactsK {
       if (!j_awake) ++immovable_bodies;
       if (edges.mate != nullptr) init_edge(edges, d.lists, i, t, j, j_awake, p.y, pj.y);
       if (j_awake && ((directions >> shift) & 255u) < 255u) directions += Counter{1} << shift;
-      if (pc.penetration > -fade && n_i.y >= min_up) add_support(j, n_i, pc.penetration);
+      if (pc.penetration > -slop && !(n_i.y >= min_up)) loaded = true;
+      if (pc.penetration > -fade && n_i.y >= min_up) add_support(j, n_i, pc.penetration, pc.point);
       const BodyView<float> other0 = view_of(b, j, b.vel, b.ang);
       const Vec3<float> r1 = pc.point - (lower ? p : pj), r2 = pc.point - (lower ? pj : p);
       const float e_o = ro(b.half + j).w, mu_o = ro(b.inert + j).w;
@@ -905,7 +915,9 @@ struct ContactsK {
     has_immovable[k] = ground_contacts + sdf_contacts + immovable_bodies > 0 ? 1 : 0;
     if (pair_points > 0) add_counter(&ctr[kCBodyContacts], pair_points);
     support_idx[i] = support;
-    support_n[i] = f4(support != kNoSupport ? normalize(support_sum) : Vec3<float>{}, support_gap_min);  // w: the support gap
+    const Vec3<float> n_s = support != kNoSupport ? normalize(support_sum) : Vec3<float>{};
+    support_n[i] = f4(n_s, support_gap_min);  // w: the support gap
+    if (over_support != nullptr) over_support[i] = support == kNoSupport || loaded || lockstep::over_support(arms, n_arms, n_s) ? 1 : 0;
     vout[i] = f4(self.v, 0.0f);
     wout[i] = f4(self.w, 0.0f);
     add_counter(&ctr[kCGroundContacts], ground_contacts);
@@ -1221,6 +1233,8 @@ struct SettleSweep {
   const F4* vpost;  // solver result
   const F4* sin;    // the previous sweep's (sweep 0: vpost)
   bool relative = false;  // the oriented-box model: eq 77 relative to the support's velocity
+  const int* over = nullptr;  // the oriented-box model: per body, over its support (eq 112); one that is not does not settle
+  LS_HD bool settles(int i) const { return over == nullptr || ro(over + i) != 0; }
   // Eqs 75, 77 on v (the solver's velocity of body i); returns |v| after eq 75
   // (what righting uses), or a negative value for a body with no support
   // (v unchanged). `final`: the result is World<T>'s (it read no support's
@@ -1229,12 +1243,12 @@ struct SettleSweep {
   LS_HD float linear(const BodyArrays& b, int i, const Params<float>& P, Vec3<float>& v, bool& final) const {
     final = true;
     const int s = ro(support_idx + i);
-    if (s == kNoSupport) return -1.0f;
+    if (s == kNoSupport || !settles(i)) return -1.0f;
     Vec3<float> v_s{};
     if (s >= 0 && is_awake(ro(b.flags + s))) {
       const float ys = ro(b.pos + s).y, yi = ro(b.pos + i).y;
       const bool lower = ys < yi || (ys == yi && s < i);
-      if (lower && ro(support_idx + s) != kNoSupport) {
+      if (lower && ro(support_idx + s) != kNoSupport && settles(s)) {
         const F4 settled = ro(sin + s);
         v_s = xyz(settled);
         final = settled.w != 0.0f;

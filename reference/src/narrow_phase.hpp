@@ -155,9 +155,18 @@ void World<T>::narrow_phase() {
   std::fill(support_.begin(), support_.end(), -1);
   std::fill(support_n_.begin(), support_n_.end(), Vec3<T>{});
   std::fill(support_gap_.begin(), support_gap_.end(), T{});
+  // eq 112's inputs: the lever arms of each body's contacts in its support
+  // normal (within support_fade: a corner it would fall onto within a frame
+  // holds it as one it touches), how many, and whether it also touches something (within slop)
+  // that is not a support: a neighbour beside it, a body above it.
+  support_arms_.resize(bodies_.size());
+  std::vector<int> n_arms(bodies_.size(), 0);
+  std::vector<char> loaded(bodies_.size(), 0);
   auto add_support = [&](int body, std::size_t ci, const Vec3<T>& n, const T& penetration) {
     const auto i = static_cast<std::size_t>(body);
     support_n_[i] += n * support_weight(penetration, P_.support_fade);
+    if (n_arms[i] < kMaxSupportPoints) support_arms_[i][static_cast<std::size_t>(n_arms[i])] = contacts_[ci].point - bodies_[i].p;
+    if (n_arms[i] <= kMaxSupportPoints) ++n_arms[i];  // kMaxSupportPoints + 1: too many to look at
     if (!(penetration > -P_.slop)) return;
     const T gap = support_gap(penetration);
     if (support_[i] < 0) {
@@ -168,12 +177,19 @@ void World<T>::narrow_phase() {
   };
   for (std::size_t ci = 0; ci < contacts_.size(); ++ci) {
     const Contact<T>& c = contacts_[ci];
+    if (c.penetration > -P_.slop) {
+      if (!(c.n.y >= P_.support_normal_min)) loaded[static_cast<std::size_t>(c.a)] = 1;
+      if (c.b >= 0 && !(-c.n.y >= P_.support_normal_min)) loaded[static_cast<std::size_t>(c.b)] = 1;
+    }
     if (!(c.penetration > -P_.support_fade)) continue;
     if (c.n.y >= P_.support_normal_min) add_support(c.a, ci, c.n, c.penetration);
     if (c.b >= 0 && -c.n.y >= P_.support_normal_min) add_support(c.b, ci, -c.n, c.penetration);
   }
-  for (std::size_t i = 0; i < bodies_.size(); ++i)
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
     if (support_[i] >= 0) support_n_[i] = normalize(support_n_[i]);
+    over_support_[i] = support_[i] < 0 || loaded[i] != 0 ||
+                       over_support(support_arms_[i].data(), n_arms[i], support_n_[i]);  // eq 112
+  }
 }
 
 }  // namespace lockstep

@@ -27,6 +27,7 @@ void World<T>::settle() {
   for (int idx : order) {
     const auto i = static_cast<std::size_t>(idx);
     Body<T>& b = bodies_[i];
+    if (oriented && !over_support_[i]) continue;  // eq 112: it tips; settling would hold it back
     ++counters_.settling_bodies;
     const Contact<T>& c = contacts_[static_cast<std::size_t>(support_[i])];  // the first support: whose velocity (75) uses
     const Vec3<T> n = support_normal(i);

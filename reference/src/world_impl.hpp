@@ -78,6 +78,7 @@ World<T>::World(const Scene& scene) : scene_(scene), P_(Params<T>::from(scene.co
   rests_.assign(bodies_.size(), {});
   support_n_.assign(bodies_.size(), Vec3<T>{});
   support_gap_.assign(bodies_.size(), T{});
+  over_support_.assign(bodies_.size(), 1);
 }
 
 template <class T>
@@ -100,6 +101,7 @@ World<T>& World<T>::operator=(const World& other) {
   rests_ = other.rests_;
   support_n_ = other.support_n_;
   support_gap_ = other.support_gap_;
+  over_support_ = other.over_support_;
   ground_y_ = other.ground_y_;
   ground_e_ = other.ground_e_;
   ground_mu_ = other.ground_mu_;

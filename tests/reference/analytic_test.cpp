@@ -231,5 +231,42 @@ TYPED_TEST(AnalyticTest, StackOfFiveStandsAndSleeps) {
   }
 }
 
+// Eq 112: a 1 m cube of 1 kg set on a 2 m cube of 20 kg with its centre of
+// mass 2 cm beyond the edge tips off under gravity (the static answer: any
+// overhang of the centre tips it), and one 2 cm inside the edge stays on top.
+// Before eq 112 the righting torque and the damping regimes held the first
+// one: it fell asleep hanging over the edge (x 1.015 m, frame 150, fixed).
+// Returns the small cube's final state after up to `frames` frames.
+template <class T>
+World<T> overhang(double x, int frames) {
+  Scene s;
+  BodyDesc base = unit_cube(0, 1, 0);
+  base.half_extents = {1, 1, 1};
+  base.mass = 20;
+  BodyDesc top = unit_cube(x, 2.5, 0);
+  s.bodies = {base, top};
+  World<T> w(s);
+  for (int n = 0; n < frames && !w.all_asleep(); ++n) w.step();
+  return w;
+}
+
+TYPED_TEST(AnalyticTest, OverhangingBoxTipsOff) {
+  using T = TypeParam;
+  const int frames = std::is_same_v<T, Mp> ? 150 : 600;
+  const World<T> off = overhang<T>(1.02, frames);
+  EXPECT_LT(d(off.body(1).p.y), 0.6) << "the overhanging cube is not on the ground at frame " << off.frame()
+                                     << " (x " << d(off.body(1).p.x) << " m)";
+  EXPECT_GT(d(off.body(1).p.x), 1.498);  // beside the base (its side at x = 1), the sides touching within 2 slops
+  if (!std::is_same_v<T, Mp>) {
+    EXPECT_TRUE(off.all_asleep());
+  }
+  const World<T> on = overhang<T>(0.98, frames);
+  EXPECT_NEAR(d(on.body(1).p.y), 2.5, 0.01) << "the supported cube left the top";
+  EXPECT_NEAR(d(on.body(1).p.x), 0.98, 0.01);
+  if (!std::is_same_v<T, Mp>) {
+    EXPECT_TRUE(on.all_asleep());
+  }
+}
+
 }  // namespace
 }  // namespace lockstep::test

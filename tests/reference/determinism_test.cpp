@@ -64,12 +64,17 @@ RC_GTEST_PROP(DeterminismTest, SaveAndRestoreMidRunGivesTheSameHashes, ()) {
 // every third frame but slides on it; alone, frame 99), the ground
 // tolerance growing with the reach (eqs 97, 107; alone, frame 84) and eq
 // 99's friction cone first.
-constexpr int kPinnedSleepFrame = 90;
+// 2026-11-26 moved it from 90 (0xa072a4d308155ca9) to 77: eq 112 (a body
+// whose centre of mass is not over its support contacts does not settle:
+// landing on an edge, the cube tips flat under gravity instead of being
+// held back by the righting torque and the damping regimes); eq 98's
+// support_fade alone left it at 90, same hash.
+constexpr int kPinnedSleepFrame = 77;
 constexpr int kPinnedOrientedStackFrame = 30;
 constexpr std::uint64_t kPinnedOrientedStackHash = 0x6ade4901b3a01dd0ull;
 constexpr int kPinnedAabbStackFrame = 30;
 constexpr std::uint64_t kPinnedAabbStackHash = 0x91445dda8f6ec7dfull;
-constexpr std::uint64_t kPinnedHash = 0xa072a4d308155ca9ull;
+constexpr std::uint64_t kPinnedHash = 0x9911e0172e48e1eaull;
 TEST(DeterminismTest, PinnedDropHashAndSleepFrame) {
   Scene s;
   BodyDesc b = unit_cube(0, 2, 0);

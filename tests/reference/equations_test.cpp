@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "engine_types.hpp"
 #include "lockstep/physics/aabb.hpp"
@@ -452,6 +453,51 @@ TEST(SettleTest, Eq75RestingCancellation) {
 }
 // eq 98: a support contact's weight in the support normal: 1 touching, fading
 // linearly to 0 at a gap of slop.
+// Eq 112 against an independent oracle: the centre (origin) is strictly
+// outside the convex hull of points in the plane exactly when the points'
+// angles about it leave a gap wider than pi (atan2, sorted). Points of a
+// box's bottom face (1-6 of its corners and edge midpoints) under a centre
+// shifted by up to 1.5 half-widths, seen along up or a tilted normal (the
+// arms then have components along n, which must not count); cases within
+// 1e-9 of the boundary are not drawn by this generator's continuous ranges.
+TEST(SettleTest, Eq112OverSupport) {
+  rc::check([] {
+    const double hx = *rc::gen::inRange(10, 100) / 100.0, hz = *rc::gen::inRange(10, 100) / 100.0;
+    const double sx = *rc::gen::inRange(-1500, 1500) / 1000.0 * hx, sz = *rc::gen::inRange(-1500, 1500) / 1000.0 * hz;
+    const double tx = *rc::gen::inRange(-300, 300) / 1000.0, tz = *rc::gen::inRange(-300, 300) / 1000.0;
+    const V n = normalize(V{tx, 1.0, tz});
+    const V t1 = normalize(cross(n, V{0, 0, 1})), t2 = cross(t1, n);  // the plane normal to n
+    const int count = *rc::gen::inRange(1, 7);
+    const double cand[8][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}, {0, -1}, {1, 0}, {0, 1}, {-1, 0}};
+    std::vector<V> r;
+    std::vector<double> angle;
+    for (int k = 0; k < count; ++k) {
+      const int c = *rc::gen::inRange(0, 8);
+      const double u = cand[c][0] * hx - sx, w = cand[c][1] * hz - sz;
+      r.push_back(t1 * u + t2 * w - n * 0.5);  // below the centre along n
+      angle.push_back(std::atan2(w, u));
+    }
+    std::sort(angle.begin(), angle.end());
+    double widest = angle.front() + 2 * M_PI - angle.back();
+    for (std::size_t k = 1; k < angle.size(); ++k) widest = std::max(widest, angle[k] - angle[k - 1]);
+    bool distinct = true;  // a single distinct point: outside unless at the centre (not drawn)
+    for (const V& x : r) distinct = distinct && length(x - r[0]) < 1e-12;
+    const bool oracle = !distinct && widest < M_PI - 1e-9;
+    if (!distinct && std::abs(widest - M_PI) < 1e-9) RC_DISCARD("on the boundary");
+    RC_ASSERT(over_support(r.data(), static_cast<int>(r.size()), n) == oracle);
+  });
+  // The boundary and degenerate cases, exactly.
+  const V up{0, 1, 0};
+  const V seg[2] = {{0.5, -0.5, 0.5}, {-0.5, -0.5, -0.5}};
+  EXPECT_TRUE(over_support(seg, 2, up));         // the centre on the segment: boundary, over
+  EXPECT_FALSE(over_support(seg, 1, up));        // one point beside the centre
+  const V below[1] = {{0, -0.5, 0}};
+  EXPECT_TRUE(over_support(below, 1, up));       // straight over a point
+  EXPECT_TRUE(over_support<double>(nullptr, 0, up));
+  const V line[2] = {{0.5, -0.5, 0.1}, {-0.5, -0.5, 0.1}};
+  EXPECT_FALSE(over_support(line, 2, up));       // an edge 0.1 beside the centre
+}
+
 TEST(SettleTest, Eq98SupportWeight) {
   EXPECT_DOUBLE_EQ(support_weight(0.0, 0.001), 1.0);
   EXPECT_DOUBLE_EQ(support_weight(0.003, 0.001), 1.0);

@@ -326,6 +326,16 @@ Json f_cancel_resting(In in, const std::string& p) {
 Json f_support_weight(In in, const std::string& p) {
   return Json{{"w", to_json(support_weight(q16_at(in, "penetration", p), q16_at(in, "width", p)))}};
 }
+// eq 112: whether the centre (the origin) is over the convex hull of the
+// lever arms r, seen along n.
+Json f_over_support(In in, const std::string& p) {
+  const Json& rs = member(in, "r", p);
+  if (!rs.is_array() || rs.size() > static_cast<std::size_t>(kMaxSupportPoints))
+    throw FormatError(p + ".r: expected 0 to 16 lever arms");
+  std::vector<V> r;
+  for (std::size_t k = 0; k < rs.size(); ++k) r.push_back(vec_at(Json{{"r", rs[k]}}, "r", p + ".r[" + std::to_string(k) + "]"));
+  return Json{{"over", over_support(r.data(), static_cast<int>(r.size()), vec_at(in, "n", p))}};
+}
 Json f_settle_linear(In in, const std::string& p) {
   return Json{{"v", to_json(settle_linear(vec_at(in, "v", p), q16_at(in, "speed", p), params_at(in, p)))}};
 }
@@ -496,6 +506,10 @@ const std::vector<Formula>& formulas() {
        "else v",
        f_cancel_resting},
       {"support_weight", {98}, "1 if penetration >= 0, 0 if penetration <= -width, else (penetration + width) / width", f_support_weight},
+      {"over_support", {112},
+       "false iff some r[j] has every r[k] with cross(r[j], r[k]).n > 0, or = 0 and "
+       "dot(r[j], r[k]) - (r[j].n)(r[k].n) > 0; else true (0 arms: true)",
+       f_over_support},
       {"settle_linear", {77}, "v * settle_factor if speed < settle_speed, else v", f_settle_linear},
       {"combined_restitution", {50}, "min(e1, e2)", f_combined_restitution},
       {"low_speed_restitution", {76}, "e if -v_n > restitution_min_speed, else 0", f_low_speed_restitution},
@@ -760,6 +774,16 @@ std::vector<Case> cases_for(const std::string& fn, Rng& rng) {
             {"rest_speed", to_json(P.rest_speed)}};
     } else if (fn == "support_weight") {
       in = {{"penetration", to_json(k % 3 ? -rng.q16(0, 0.003) : rng.q16(0, 0.01))}, {"width", to_json(P.support_fade)}};
+    } else if (fn == "over_support") {
+      // A box's bottom corners (or some of them) under a tilted or shifted
+      // centre: 1-4 arms, some cases with the centre beyond them.
+      const V h{rng.q16(0.1, 1), rng.q16(0.1, 1), rng.q16(0.1, 1)};
+      const V shift{rng.q16(-1.2, 1.2) * h.x, Q16{}, rng.q16(-1.2, 1.2) * h.z};
+      Json r = Json::array();
+      const int count = 1 + k % 4;
+      for (int c = 0; c < count; ++c)
+        r.push_back(to_json(V{(c & 1 ? h.x : -h.x) + shift.x, -h.y, (c & 2 ? h.z : -h.z) + shift.z}));
+      in = {{"r", r}, {"n", k % 3 ? up : to_json(normalize(V{rng.q16(-0.3, 0.3), Q16::from_int(1), rng.q16(-0.3, 0.3)}))}};
     } else if (fn == "settle_linear") {
       in = {{"v", random_raw_vec(rng, -0.4, 0.4)}, {"speed", to_json(rng.q16(0, 0.6))}};
     } else if (fn == "combined_restitution") {
@@ -966,6 +990,13 @@ std::vector<Case> cases_for(const std::string& fn, Rng& rng) {
         "a gap of exactly the width: weight 0", {"Edge"});
     add({{"penetration", 1}, {"width", 0}}, "width 0: a touching contact weighs 1 (no division)", {"Edge"});
     add({{"penetration", -1}, {"width", 0}}, "width 0: a gap weighs 0 (no division)", {"Edge"});
+  } else if (fn == "over_support") {
+    const Json a = Json::array({kOne / 2, -kOne / 2, kOne / 2}), b = Json::array({-kOne / 2, -kOne / 2, -kOne / 2});
+    add({{"r", Json::array({a, b})}, {"n", up}}, "the centre on the segment between two arms: over (boundary)", {"Edge"});
+    add({{"r", Json::array({a})}, {"n", up}}, "one arm beside the centre: not over", {"Edge"});
+    add({{"r", Json::array({Json::array({0, -kOne / 2, 0})})}, {"n", up}}, "one arm straight below the centre: over",
+        {"Edge"});
+    add({{"r", Json::array()}, {"n", up}}, "no arms: over (nothing to tip about)", {"Edge"});
   } else if (fn == "cancel_resting_velocity") {
     add({{"v", Json::array({3, -kOne / 10, 0})}, {"v_support", zero}, {"n", up}, {"gap_speed", kOne / 20},
          {"rest_speed", to_json(P.rest_speed)}},

@@ -2,6 +2,7 @@
 // type T (float, double, Mp, Q16). The order of operations is docs/SPEC.md 7.2;
 // each stage lives in its own file under reference/src/.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
@@ -9,6 +10,7 @@
 
 #include "lockstep/math/vec.hpp"
 #include "lockstep/physics/params.hpp"
+#include "lockstep/physics/settle.hpp"
 #include "lockstep/physics/sdf.hpp"
 #include "lockstep/physics/solver.hpp"
 #include "lockstep/scene.hpp"
@@ -165,6 +167,8 @@ class World {
   std::vector<std::pair<int, int>> rests_on_;  // stage 9 scratch: (body, dynamic body it rests on), sorted (eq 109)
   std::vector<Vec3<T>> support_n_;    // per body: its support normal (4.1), zero if none
   std::vector<T> support_gap_;        // per body: its support gap (75), the smallest gap of its supports
+  std::vector<char> over_support_;    // per body: eq 112 lets it settle (its centre of mass is over its support contacts, or it is held by more)
+  std::vector<std::array<Vec3<T>, kMaxSupportPoints>> support_arms_;  // stage 3 scratch: per body, its support contacts' lever arms (eq 112)
   std::vector<Vec3<T>> corrected_from_;  // per body: its position before this frame's correction (eq 89 order)
   std::vector<int> order_;            // eq 110: the pair contacts that correct, bottom up
   std::vector<Vec3<T>> turn_;         // eq 111: per body, the turn (rad) this frame's correction gave it

@@ -85,7 +85,9 @@ LS_HD_INLINE T contact_target_velocity(const T& penetration, const T& e, const T
   const T rise = Num<T>::sqrt(Num<T>::max(g_n, T{}) * gap * Num<T>::from_int(2) * (one - e * e));
   if (!(ev > rise)) return T{};
   if (ev > Num<T>::from_int(128)) return ev;
-  return Num<T>::sqrt((ev - rise) * (ev + rise));
+  // u <= ev in real arithmetic; the min keeps it so against the rounding of a
+  // small square (Q16: ev 621 raw, sqrt(ev * ev) 627 raw).
+  return Num<T>::min(ev, Num<T>::sqrt((ev - rise) * (ev + rise)));
 }
 
 // eq 95 (the iterated form of eq 88): the friction impulse accumulated over

@@ -93,6 +93,37 @@ LS_HD Vec3<T> cancel_resting_velocity(const Vec3<T>& v, const Vec3<T>& v_support
   return v - n * (vn - keep);
 }
 
+// eq 112 (Part 4): whether a body's centre of mass, seen along its support
+// normal n, lies over its support: in the convex hull (boundary included) of
+// its support contacts' points, given as lever arms r[k] = point - p (the
+// centre at the origin), k < count. In the plane normal to n the centre is
+// strictly outside the hull exactly when some r[j] has every r[k] at an
+// angle in [0, pi) from it: (r[j] x r[k]).n > 0, or = 0 with r[k] pointing
+// the same way (r[j].r[k] - (r[j].n)(r[k].n) > 0); r[j] with no in-plane
+// length never qualifies (the centre is over a contact point). O(count^2).
+// More than kMaxSupportPoints support contacts (count > kMaxSupportPoints,
+// only the first kMaxSupportPoints given) count as over: such a body is held
+// from many sides. A body that touches anything but its supports (a
+// neighbour beside it, a body on it) is not asked (World: narrow_phase).
+constexpr int kMaxSupportPoints = 16;
+
+template <class T>
+LS_HD bool over_support(const Vec3<T>* r, int count, const Vec3<T>& n) {
+  if (count > kMaxSupportPoints) return true;
+  for (int j = 0; j < count; ++j) {
+    bool witness = true;  // every point within [0, pi) of r[j]
+    const T rjn = dot(r[j], n);
+    for (int k = 0; k < count && witness; ++k) {
+      const T side = dot(cross(r[j], r[k]), n);
+      if (side > T{}) continue;
+      if (side < T{}) { witness = false; break; }
+      witness = dot(r[j], r[k]) - rjn * dot(r[k], n) > T{};
+    }
+    if (witness) return false;
+  }
+  return true;
+}
+
 // eq 77 (4.6): a supported body slower than settle_speed loses a fraction of its velocity.
 template <class T>
 LS_HD Vec3<T> settle_linear(const Vec3<T>& v, const T& speed, const Params<T>& P) {
