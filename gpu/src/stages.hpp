@@ -279,6 +279,7 @@ struct alignas(32) PairManifold {
   float depth = 0.0f;              // eq 110: the mean depth of the points
   int unused = 0;
   ContactRecord st[kBoxManifoldPoints];
+  F4 conv[4];                      // eq 113: the sides' v, w (lower index first) its last visit left; conv[0].w = 1: it changed them by < converged_speed
 };
 
 // eq 97 and 107: the AABB growth of a body at the broadphase, half the
@@ -647,7 +648,30 @@ struct SolverData {
   ContactRecord* imm;   // immovable contacts' state, imm_stride() per slot
   ContactRecord* pair;  // body-body contacts' state, one per neighbour-list entry (each body keeps its own copy)
   PairManifold* man = nullptr;  // oriented-box model: the pair's manifold and state, per entry (instead of `pair`)
+  F4* conv_imm = nullptr;       // oriented-box model: eq 113's record (4 F4, as PairManifold::conv) of each slot's ground and SDF manifolds
 };
+
+// eq 113 (7.2 step 5, oriented-box model): a visit is skipped, converged,
+// from pass converged_pass on (never the first) when its last visit changed
+// its sides' velocities by less than converged_speed and they have moved by
+// less than that since. `st`: the 4 F4 of its record, A the lower index.
+LS_HD inline bool visit_is_converged(const F4* st, const BodyView<float>& A, const BodyView<float>& B,
+                                     const Params<float>& P, int pass) {
+  if (pass == 0 || pass < P.converged_pass || st[0].w == 0.0f) return false;
+  return visit_converged(xyz(st[0]), xyz(st[1]), A.v, A.w, P.converged_speed) &&
+         visit_converged(xyz(st[2]), xyz(st[3]), B.v, B.w, P.converged_speed);
+}
+// The record of a visit that took its sides from (va0, wa0, vb0, wb0) to A, B.
+LS_HD inline void record_visit(F4* st, const Vec3<float>& va0, const Vec3<float>& wa0, const Vec3<float>& vb0,
+                               const Vec3<float>& wb0, const BodyView<float>& A, const BodyView<float>& B,
+                               const Params<float>& P) {
+  const bool small = visit_converged(va0, wa0, A.v, A.w, P.converged_speed) &&
+                     visit_converged(vb0, wb0, B.v, B.w, P.converged_speed);
+  st[0] = f4(A.v, small ? 1.0f : 0.0f);
+  st[1] = f4(A.w, 0.0f);
+  st[2] = f4(B.v, 0.0f);
+  st[3] = f4(B.w, 0.0f);
+}
 
 // Last frame's contacts, for the warm start (eq 96): the accumulated normal
 // impulse is the x of each contact's first state F4.
@@ -949,6 +973,7 @@ struct SolveK {
   F4* wout;
   Counter* ctr;
   bool reverse = false;  // oriented-box model, odd passes: the body's visits in reverse (7.2 step 5)
+  int pass = 0;          // the solver pass (eq 113)
   LS_HD void operator()(int thread) const {
     const BodyArrays& b = d.b;
     const SceneConsts& sc = d.sc;
@@ -984,6 +1009,14 @@ struct SolveK {
       // The oriented-box model: the ground manifold, each SDF volume's, then
       // the pairs with immovable bodies (and, Jacobi, with active ones) as
       // manifolds (eq 99), in World<T>'s order; odd passes in reverse.
+      // eq 113: each immovable manifold's record, 4 F4 (the environment side zero).
+      auto imm_visit = [&](int m, auto&& solve) {
+        F4* st = d.conv_imm + (static_cast<long>(k) * (sc.ground_slots() / 8 + sc.n_sdf) + m) * 4;
+        if (visit_is_converged(st, self, env, sc.P, pass)) return;
+        const Vec3<float> v0s = self.v, w0s = self.w;
+        solve();
+        record_visit(st, v0s, w0s, env.v, env.w, self, env, sc.P);
+      };
       auto ground = [&] {
         auto corner_point = [&](int c, Vec3<float>& r1, Vec3<float>& r2, Vec3<float>& n, float& penetration) {
           r2 = Vec3<float>{};
@@ -993,7 +1026,9 @@ struct SolveK {
           n = up;
           return penetration > -tol;
         };
-        solve_manifold<8>(self, env, corner_point, loader(0), storer(0), sc.friction, sc.gravity, sc.P, counts);
+        imm_visit(0, [&] {
+          solve_manifold<8>(self, env, corner_point, loader(0), storer(0), sc.friction, sc.gravity, sc.P, counts);
+        });
       };
       auto volume = [&](int v) {
         const int base = sc.ground_slots() + 9 * v;
@@ -1006,7 +1041,9 @@ struct SolveK {
           penetration = c0.w;
           return c1.w != 0.0f;
         };
-        solve_manifold<9>(self, env, sample, loader(base), storer(base), sc.friction, sc.gravity, sc.P, counts);
+        imm_visit(sc.ground_slots() / 8 + v, [&] {
+          solve_manifold<9>(self, env, sample, loader(base), storer(base), sc.friction, sc.gravity, sc.P, counts);
+        });
       };
       Vec3<float> dv{}, dw{};
       auto pair = [&](int t) {
@@ -1025,6 +1062,8 @@ struct SolveK {
         const float split =
             jacobi ? jacobi_split(ro(d.dir_count + i), ro(d.dir_count + j), lower ? n : -n, sc.relaxation) : 1.0f;
         BodyView<float> A = pick(lower, me, other), B = pick(lower, other, me);
+        if (visit_is_converged(rec.conv, A, B, sc.P, pass)) return;  // eq 113
+        const Vec3<float> va0 = A.v, wa0 = A.w, vb0 = B.v, wb0 = B.w;
         const Vec3<float> pa = lower ? p : pj, pb = lower ? pj : p;
         auto point = [&](int c, Vec3<float>& r1, Vec3<float>& r2, Vec3<float>& nc, float& penetration) {
           if (c >= count) return false;
@@ -1039,6 +1078,7 @@ struct SolveK {
         auto store = [&](int c, const ContactState<float>& cs) { rec.st[c].a = F4{cs.j_n, cs.j_t.x, cs.j_t.y, cs.j_t.z}; };
         SolveCounts here;
         solve_manifold<kBoxManifoldPoints>(A, B, point, load, store, sc.friction, sc.gravity, split, sc.P, here);
+        record_visit(rec.conv, va0, wa0, vb0, wb0, A, B, sc.P);
         const Vec3<float> mv = pick(lower, A.v, B.v), mw = pick(lower, A.w, B.w);
         if (jacobi) {
           dv += mv - v0;
@@ -1155,6 +1195,7 @@ struct SolveEdgeK {
   F4* vel;
   F4* ang;
   Counter* ctr;
+  int pass = 0;  // the solver pass (eq 113)
   LS_HD void operator()(int e) const {
     const BodyArrays& b = d.b;
     const SceneConsts& sc = d.sc;
@@ -1186,8 +1227,12 @@ struct SolveEdgeK {
         rec.st[c].a = state;
         twin.st[c].a = state;
       };
+      if (visit_is_converged(rec.conv, A, B, sc.P, pass)) return;  // eq 113
+      const Vec3<float> va0 = A.v, wa0 = A.w, vb0 = B.v, wb0 = B.w;
       SolveCounts counts;
       solve_manifold<kBoxManifoldPoints>(A, B, point, load, store, sc.friction, sc.gravity, sc.P, counts);
+      record_visit(rec.conv, va0, wa0, vb0, wb0, A, B, sc.P);
+      for (int q = 0; q < 4; ++q) twin.conv[q] = rec.conv[q];
       vel[i] = f4(A.v, 0.0f);
       ang[i] = f4(A.w, 0.0f);
       vel[j] = f4(B.v, 0.0f);

@@ -114,12 +114,22 @@ void World<T>::solve_contacts() {
       const unsigned version_a = velocity_version_[static_cast<std::size_t>(ia)];
       const unsigned version_b = ib >= 0 ? velocity_version_[static_cast<std::size_t>(ib)] : 0u;
       IdleVisit& idle = idle_visits_[at];
+      BodyView<T> A = solver::view_of(bodies_, ia);
+      BodyView<T> B = solver::view_of(bodies_, ib);
+      // eq 113 (oriented-box model): from pass converged_pass on, a visit
+      // that last changed its sides' velocities by less than converged_speed,
+      // and whose sides have moved by less than that since, is converged
+      // and skipped (it would apply almost nothing again).
+      if (oriented && it >= P_.converged_pass && idle.small &&
+          visit_converged(idle.va, idle.wa, A.v, A.w, P_.converged_speed) &&
+          visit_converged(idle.vb, idle.wb, B.v, B.w, P_.converged_speed)) {
+        continue;
+      }
       if (idle.idle && idle.version_a == version_a && idle.version_b == version_b) {
         counters_.solver_contacts += idle.solver_contacts;  // the visit it repeats: no impulse
         continue;
       }
-      BodyView<T> A = solver::view_of(bodies_, ia);
-      BodyView<T> B = solver::view_of(bodies_, ib);
+      const Vec3<T> va0 = A.v, wa0 = A.w, vb0 = B.v, wb0 = B.w;
       SolveCounts counts;
       if (manifold) {
         const auto points = static_cast<int>(e - s);  // <= kManifoldPoints by construction (narrow_phase)
@@ -151,6 +161,12 @@ void World<T>::solve_contacts() {
       idle.version_a = velocity_version_[static_cast<std::size_t>(ia)];
       idle.version_b = ib >= 0 ? velocity_version_[static_cast<std::size_t>(ib)] : 0u;
       idle.solver_contacts = counts.solver_contacts;
+      idle.small = visit_converged(va0, wa0, A.v, A.w, P_.converged_speed) &&
+                   visit_converged(vb0, wb0, B.v, B.w, P_.converged_speed);
+      idle.va = A.v;
+      idle.wa = A.w;
+      idle.vb = B.v;
+      idle.wb = B.w;
     }
   }
   warm_.clear();

@@ -36,7 +36,7 @@ using namespace lockstep::compare;
 inline lockstep::Scene as_fixed_sees_it(lockstep::Scene s) {
   auto q = [](double& x) { x = lockstep::Q16::from_double(x).to_double(); };
   lockstep::Constants& c = s.constants;
-  for (double* x : {&c.dt, &c.linear_damping, &c.angular_damping, &c.cell_size, &c.slop, &c.baumgarte, &c.contact_tolerance, &c.kp, &c.kd, &c.speed_factor_min, &c.speed_factor_max, &c.support_normal_min, &c.align_fine, &c.align_good, &c.align_fair, &c.damp_fine, &c.damp_good, &c.damp_fair, &c.rest_speed, &c.restitution_min_speed, &c.settle_speed, &c.settle_damping, &c.sleep_linear, &c.sleep_angular, &c.sleep_alignment, &c.drowsy_damping, &c.wake_speed, &c.wake_penetration, &c.wake_support_distance, &c.gravity.x, &c.gravity.y, &c.gravity.z}) q(*x);
+  for (double* x : {&c.dt, &c.linear_damping, &c.angular_damping, &c.cell_size, &c.slop, &c.baumgarte, &c.contact_tolerance, &c.converged_speed, &c.kp, &c.kd, &c.speed_factor_min, &c.speed_factor_max, &c.support_normal_min, &c.align_fine, &c.align_good, &c.align_fair, &c.damp_fine, &c.damp_good, &c.damp_fair, &c.rest_speed, &c.restitution_min_speed, &c.settle_speed, &c.settle_damping, &c.sleep_linear, &c.sleep_angular, &c.sleep_alignment, &c.drowsy_damping, &c.wake_speed, &c.wake_penetration, &c.wake_support_distance, &c.gravity.x, &c.gravity.y, &c.gravity.z}) q(*x);
   q(s.ground.height);
   return s;
 }

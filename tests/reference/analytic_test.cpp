@@ -231,6 +231,47 @@ TYPED_TEST(AnalyticTest, StackOfFiveStandsAndSleeps) {
   }
 }
 
+// Eq 113: skipping converged solver visits keeps a perturbed column as the
+// full solve (converged_speed 0) keeps it: 5 cubes, each tilted by about
+// 1.5 degrees about its own axis and shifted by up to 4 cm, dropped 5 cm
+// onto each other. Both stand (within 2 cm of the stacked heights and 5 cm
+// of the axis, level) and sleep within 30 frames of each other, and the
+// skip does skip (fewer points visited).
+template <class T>
+World<T> skip_column(double converged_speed) {
+  Scene s;
+  s.constants.converged_speed = converged_speed;
+  const double tilt[5][3] = {{0.8, 0, 0.6}, {0, 0.6, -0.8}, {-0.6, 0, 0.8}, {0.6, 0.8, 0}, {0, -0.8, -0.6}};
+  const double shift[5][2] = {{0.01, -0.02}, {-0.04, 0.01}, {0.02, 0.03}, {-0.01, -0.03}, {0.03, 0.0}};
+  const double half = 0.5 * 1.5 * M_PI / 180.0;  // half of 1.5 degrees
+  for (int i = 0; i < 5; ++i) {
+    BodyDesc b = unit_cube(shift[i][0], 0.55 + 1.05 * i, shift[i][1]);
+    b.orientation = {std::cos(half), std::sin(half) * tilt[i][0], std::sin(half) * tilt[i][1], std::sin(half) * tilt[i][2]};
+    s.bodies.push_back(b);
+  }
+  World<T> w(s);
+  for (int n = 0; n < 600 && !w.all_asleep(); ++n) w.step();
+  return w;
+}
+
+TYPED_TEST(AnalyticTest, Eq113ConvergedSkipKeepsAColumnAsTheFullSolve) {
+  using T = TypeParam;
+  if (std::is_same_v<T, Mp>) GTEST_SKIP() << "mp: covered by the double run";
+  const World<T> skip = skip_column<T>(1.0 / 32.0), full = skip_column<T>(0.0);
+  for (const World<T>* w : {&skip, &full}) {
+    const char* which = w == &skip ? "skip" : "full";
+    EXPECT_TRUE(w->all_asleep()) << which << " frame " << w->frame();
+    for (int i = 0; i < 5; ++i) {
+      EXPECT_NEAR(d(w->body(i).p.y), 0.5 + i, 0.02) << which << " body " << i;
+      EXPECT_NEAR(d(w->body(i).p.x), 0.0, 0.05) << which << " body " << i;
+      EXPECT_NEAR(d(w->body(i).p.z), 0.0, 0.05) << which << " body " << i;
+      EXPECT_GT(alignment(*w, i), 0.998) << which << " body " << i;
+    }
+  }
+  EXPECT_NEAR(skip.frame(), full.frame(), 30);
+  EXPECT_LT(skip.counters().solver_contacts, full.counters().solver_contacts * 9 / 10);
+}
+
 // Eq 112: a 1 m cube of 1 kg set on a 2 m cube of 20 kg with its centre of
 // mass 2 cm beyond the edge tips off under gravity (the static answer: any
 // overhang of the centre tips it), and one 2 cm inside the edge stays on top.
@@ -256,7 +297,9 @@ TYPED_TEST(AnalyticTest, OverhangingBoxTipsOff) {
   const World<T> off = overhang<T>(1.02, frames);
   EXPECT_LT(d(off.body(1).p.y), 0.6) << "the overhanging cube is not on the ground at frame " << off.frame()
                                      << " (x " << d(off.body(1).p.x) << " m)";
-  EXPECT_GT(d(off.body(1).p.x), 1.498);  // beside the base (its side at x = 1), the sides touching within 2 slops
+  // beside the base (the base may have slid): the facing sides touching within 2 slops
+  EXPECT_GT(d(off.body(1).p.x) - d(off.body(0).p.x), 1.498)
+      << "cube x " << d(off.body(1).p.x) << ", base x " << d(off.body(0).p.x) << ", cube y " << d(off.body(1).p.y);
   if (!std::is_same_v<T, Mp>) {
     EXPECT_TRUE(off.all_asleep());
   }

@@ -496,6 +496,34 @@ TEST(SettleTest, Eq112OverSupport) {
   EXPECT_TRUE(over_support<double>(nullptr, 0, up));
   const V line[2] = {{0.5, -0.5, 0.1}, {-0.5, -0.5, 0.1}};
   EXPECT_FALSE(over_support(line, 2, up));       // an edge 0.1 beside the centre
+  // More support contacts than it looks at: held from many sides, over.
+  V many[kMaxSupportPoints];
+  for (V& x : many) x = line[0];
+  EXPECT_FALSE(over_support(many, kMaxSupportPoints, up));
+  EXPECT_TRUE(over_support(many, kMaxSupportPoints + 1, up));
+}
+
+// eq 113: strict per-component comparisons, in every number type.
+template <class T>
+void expect_visit_converged() {
+  const T eps = Num<T>::from_double(1.0 / 32.0);
+  const Vec3<T> z{}, a{Num<T>::from_double(1.5), Num<T>::from_double(-2.25), Num<T>::from_double(0.5)};
+  EXPECT_TRUE(visit_converged(z, z, z, z, eps));
+  EXPECT_FALSE(visit_converged(z, z, z, z, T{}));  // eps 0: never
+  EXPECT_TRUE(visit_converged(a, a, a, a, eps));
+  for (int k = 0; k < 3; ++k) {
+    Vec3<T> d{};
+    d[k] = eps;  // exactly eps: not converged, in v or in w
+    EXPECT_FALSE(visit_converged(a, a, a + d, a, eps)) << k;
+    EXPECT_FALSE(visit_converged(a, a, a, a - d, eps)) << k;
+    d[k] = eps * Num<T>::from_double(0.75);
+    EXPECT_TRUE(visit_converged(a, a, a + d, a - d, eps)) << k;
+  }
+}
+TEST(ContactTest, Eq113VisitConverged) {
+  expect_visit_converged<Q16>();
+  expect_visit_converged<float>();
+  expect_visit_converged<double>();
 }
 
 TEST(SettleTest, Eq98SupportWeight) {

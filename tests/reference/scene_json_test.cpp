@@ -35,7 +35,7 @@ using json = nlohmann::json;
 // table), docs/SCENES.md and spec_for() below about it, then update the count.
 #if defined(__x86_64__) || defined(__aarch64__) || defined(_M_X64) || defined(_M_ARM64)
 static_assert(sizeof(Material) == 2 * sizeof(double), "Material changed: update scene_json");
-static_assert(sizeof(Constants) == (32 + 3) * 8, "Constants changed: update scene_json (32 doubles, 3 ints)");
+static_assert(sizeof(Constants) == (33 + 3) * 8, "Constants changed: update scene_json (33 doubles, 3 ints)");
 static_assert(sizeof(Effects) == 9, "Effects changed: update scene_json");
 static_assert(sizeof(BodyDesc) == 19 * 8 + 8, "BodyDesc changed: update scene_json");
 static_assert(sizeof(GroundDesc) == 4 * 8, "GroundDesc changed: update scene_json");
@@ -287,7 +287,7 @@ TEST(SceneJson, WriterPinsEveryField) {
   EXPECT_EQ(j.at("format"), "lockstep-scene");
   EXPECT_EQ(j.at("version"), 1);
   EXPECT_EQ(j.at("effects").size(), 9u);
-  EXPECT_EQ(j.at("constants").size(), 33u);
+  EXPECT_EQ(j.at("constants").size(), 34u);
   EXPECT_EQ(j.at("constants").at("solver_iterations"), 8);
   EXPECT_EQ(j.at("pair_contacts"), "oriented_box");
   EXPECT_TRUE(j.at("constants").at("solver_iterations").is_number_integer());
@@ -463,6 +463,7 @@ const std::map<std::string, Spec>& constant_ranges() {
       {"baumgarte", {0, 1}},
       {"solver_iterations", {1, 64, false, false, true}},
       {"contact_tolerance", {0, 1}},
+      {"converged_speed", {0, 100}},
       {"kp", {0, 1000}},
       {"kd", {0, 1000}},
       {"speed_factor_min", {0, 100}},
@@ -584,7 +585,7 @@ Scene random_scene() {
   };
   for (D d : {D{"linear_damping", &c.linear_damping}, D{"angular_damping", &c.angular_damping},
               D{"cell_size", &c.cell_size}, D{"slop", &c.slop}, D{"baumgarte", &c.baumgarte},
-              D{"contact_tolerance", &c.contact_tolerance}, D{"kp", &c.kp}, D{"kd", &c.kd},
+              D{"contact_tolerance", &c.contact_tolerance}, D{"converged_speed", &c.converged_speed}, D{"kp", &c.kp}, D{"kd", &c.kd},
               D{"speed_factor_min", &c.speed_factor_min}, D{"speed_factor_max", &c.speed_factor_max},
               D{"support_normal_min", &c.support_normal_min}, D{"align_fine", &c.align_fine},
               D{"align_good", &c.align_good}, D{"align_fair", &c.align_fair}, D{"damp_fine", &c.damp_fine},

@@ -336,6 +336,11 @@ Json f_over_support(In in, const std::string& p) {
   for (std::size_t k = 0; k < rs.size(); ++k) r.push_back(vec_at(Json{{"r", rs[k]}}, "r", p + ".r[" + std::to_string(k) + "]"));
   return Json{{"over", over_support(r.data(), static_cast<int>(r.size()), vec_at(in, "n", p))}};
 }
+// eq 113: whether one side of a solver visit is converged.
+Json f_visit_converged(In in, const std::string& p) {
+  return Json{{"converged", visit_converged(vec_at(in, "v0", p), vec_at(in, "w0", p), vec_at(in, "v", p),
+                                            vec_at(in, "w", p), q16_at(in, "eps", p))}};
+}
 Json f_settle_linear(In in, const std::string& p) {
   return Json{{"v", to_json(settle_linear(vec_at(in, "v", p), q16_at(in, "speed", p), params_at(in, p)))}};
 }
@@ -511,6 +516,8 @@ const std::vector<Formula>& formulas() {
        "dot(r[j], r[k]) - (r[j].n)(r[k].n) > 0; else true (0 arms: true)",
        f_over_support},
       {"settle_linear", {77}, "v * settle_factor if speed < settle_speed, else v", f_settle_linear},
+      {"visit_converged", {113}, "true iff |v_k - v0_k| < eps and |w_k - w0_k| < eps for every component k",
+       f_visit_converged},
       {"combined_restitution", {50}, "min(e1, e2)", f_combined_restitution},
       {"low_speed_restitution", {76}, "e if -v_n > restitution_min_speed, else 0", f_low_speed_restitution},
       {"combined_friction", {58}, "sqrt(mu1 * mu2)", f_combined_friction},
@@ -784,6 +791,14 @@ std::vector<Case> cases_for(const std::string& fn, Rng& rng) {
       for (int c = 0; c < count; ++c)
         r.push_back(to_json(V{(c & 1 ? h.x : -h.x) + shift.x, -h.y, (c & 2 ? h.z : -h.z) + shift.z}));
       in = {{"r", r}, {"n", k % 3 ? up : to_json(normalize(V{rng.q16(-0.3, 0.3), Q16::from_int(1), rng.q16(-0.3, 0.3)}))}};
+    } else if (fn == "visit_converged") {
+      // A side's velocities before and after: each component within about
+      // converged_speed of its old value, some beyond it.
+      const V v0 = rng.vec(-3, 3), w0 = rng.vec(-3, 3);
+      const Q16 e = P.converged_speed;
+      const V dv{rng.q16(-1.3, 1.3) * e, rng.q16(-1.3, 1.3) * e, rng.q16(-1.3, 1.3) * e};
+      const V dw{rng.q16(-1.3, 1.3) * e, rng.q16(-1.3, 1.3) * e, rng.q16(-1.3, 1.3) * e};
+      in = {{"v0", to_json(v0)}, {"w0", to_json(w0)}, {"v", to_json(v0 + dv)}, {"w", to_json(w0 + dw)}, {"eps", to_json(e)}};
     } else if (fn == "settle_linear") {
       in = {{"v", random_raw_vec(rng, -0.4, 0.4)}, {"speed", to_json(rng.q16(0, 0.6))}};
     } else if (fn == "combined_restitution") {
@@ -990,6 +1005,14 @@ std::vector<Case> cases_for(const std::string& fn, Rng& rng) {
         "a gap of exactly the width: weight 0", {"Edge"});
     add({{"penetration", 1}, {"width", 0}}, "width 0: a touching contact weighs 1 (no division)", {"Edge"});
     add({{"penetration", -1}, {"width", 0}}, "width 0: a gap weighs 0 (no division)", {"Edge"});
+  } else if (fn == "visit_converged") {
+    const Json z = to_json(V{});
+    const Json eps = to_json(P.converged_speed);
+    add({{"v0", z}, {"w0", z}, {"v", to_json(V{P.converged_speed, Q16{}, Q16{}})}, {"w", z}, {"eps", eps}},
+        "a change of exactly eps: not converged (strict <)", {"Edge"});
+    add({{"v0", z}, {"w0", z}, {"v", z}, {"w", to_json(V{Q16{}, Q16{}, P.converged_speed - Q16::from_raw(1)})}, {"eps", eps}},
+        "a spin change 1 ulp below eps: converged", {"Edge"});
+    add({{"v0", z}, {"w0", z}, {"v", z}, {"w", z}, {"eps", 0}}, "eps 0: never converged", {"Edge"});
   } else if (fn == "over_support") {
     const Json a = Json::array({kOne / 2, -kOne / 2, kOne / 2}), b = Json::array({-kOne / 2, -kOne / 2, -kOne / 2});
     add({{"r", Json::array({a, b})}, {"n", up}}, "the centre on the segment between two arms: over (boundary)", {"Edge"});

@@ -189,7 +189,14 @@ class World {
   // contacts_; per body, how many visits of this solve changed its velocity;
   // per visit, whether its last visit applied no impulse, and the versions of
   // its sides' velocities after it.
-  struct IdleVisit { bool idle = false; unsigned version_a = 0, version_b = 0, solver_contacts = 0; };
+  // A visit's last outcome: whether it applied no impulse (and the sides'
+  // velocity versions then), whether it changed them by less than
+  // converged_speed, and the sides' velocities it left (eq 113).
+  struct IdleVisit {
+    bool idle = false, small = false;
+    unsigned version_a = 0, version_b = 0, solver_contacts = 0;
+    Vec3<T> va, wa, vb, wb;
+  };
   std::vector<std::pair<std::size_t, std::size_t>> visits_;
   std::vector<unsigned> velocity_version_;
   std::vector<IdleVisit> idle_visits_;

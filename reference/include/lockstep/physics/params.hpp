@@ -17,6 +17,8 @@ struct Params {
   T inv_cell_size;                  // 1 / cell_size (eq 26)
   T slop, baumgarte;                // eq 63
   int solver_iterations;
+  int converged_pass;               // eq 113: from this pass (0-based: solver_iterations / 4) on, converged visits are skipped
+  T converged_speed;                // eq 113 (m/s, rad/s; default 2^-5): a visit whose sides changed less is converged (0: never)
   T contact_tolerance;              // eqs 84, 97: speculative contact distance
   T support_fade;                   // eq 98: max(slop, |g dt| dt) (m); |g dt| dt: how far a body falls from rest in one frame
   T kp, kd_dt, speed_factor_min, speed_factor_max;  // eqs 69-71
@@ -48,6 +50,8 @@ struct Params {
     p.slop = n(c.slop);
     p.baumgarte = n(c.baumgarte);
     p.solver_iterations = c.solver_iterations;
+    p.converged_pass = c.solver_iterations / 4;
+    p.converged_speed = n(c.converged_speed);
     p.contact_tolerance = n(c.contact_tolerance);
     p.support_fade = Num<T>::max(p.slop, length(p.gravity_dt) * p.dt);
     p.kp = n(c.kp);
