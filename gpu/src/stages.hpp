@@ -661,11 +661,12 @@ LS_HD inline bool visit_is_converged(const F4* st, const BodyView<float>& A, con
   return visit_converged(xyz(st[0]), xyz(st[1]), A.v, A.w, P.converged_speed) &&
          visit_converged(xyz(st[2]), xyz(st[3]), B.v, B.w, P.converged_speed);
 }
-// The record of a visit that took its sides from (va0, wa0, vb0, wb0) to A, B.
+// The record of a visit that took its sides from (va0, wa0, vb0, wb0) to A, B
+// with `shortened` steps of eq 99 (alpha < 1: partial progress, not small).
 LS_HD inline void record_visit(F4* st, const Vec3<float>& va0, const Vec3<float>& wa0, const Vec3<float>& vb0,
                                const Vec3<float>& wb0, const BodyView<float>& A, const BodyView<float>& B,
-                               const Params<float>& P) {
-  const bool small = visit_converged(va0, wa0, A.v, A.w, P.converged_speed) &&
+                               const Params<float>& P, unsigned shortened) {
+  const bool small = shortened == 0 && visit_converged(va0, wa0, A.v, A.w, P.converged_speed) &&
                      visit_converged(vb0, wb0, B.v, B.w, P.converged_speed);
   st[0] = f4(A.v, small ? 1.0f : 0.0f);
   st[1] = f4(A.w, 0.0f);
@@ -1014,8 +1015,9 @@ struct SolveK {
         F4* st = d.conv_imm + (static_cast<long>(k) * (sc.ground_slots() / 8 + sc.n_sdf) + m) * 4;
         if (visit_is_converged(st, self, env, sc.P, pass)) return;
         const Vec3<float> v0s = self.v, w0s = self.w;
+        const unsigned shortened0 = counts.shortened_steps;
         solve();
-        record_visit(st, v0s, w0s, env.v, env.w, self, env, sc.P);
+        record_visit(st, v0s, w0s, env.v, env.w, self, env, sc.P, counts.shortened_steps - shortened0);
       };
       auto ground = [&] {
         auto corner_point = [&](int c, Vec3<float>& r1, Vec3<float>& r2, Vec3<float>& n, float& penetration) {
@@ -1078,7 +1080,7 @@ struct SolveK {
         auto store = [&](int c, const ContactState<float>& cs) { rec.st[c].a = F4{cs.j_n, cs.j_t.x, cs.j_t.y, cs.j_t.z}; };
         SolveCounts here;
         solve_manifold<kBoxManifoldPoints>(A, B, point, load, store, sc.friction, sc.gravity, split, sc.P, here);
-        record_visit(rec.conv, va0, wa0, vb0, wb0, A, B, sc.P);
+        record_visit(rec.conv, va0, wa0, vb0, wb0, A, B, sc.P, here.shortened_steps);
         const Vec3<float> mv = pick(lower, A.v, B.v), mw = pick(lower, A.w, B.w);
         if (jacobi) {
           dv += mv - v0;
@@ -1231,7 +1233,7 @@ struct SolveEdgeK {
       const Vec3<float> va0 = A.v, wa0 = A.w, vb0 = B.v, wb0 = B.w;
       SolveCounts counts;
       solve_manifold<kBoxManifoldPoints>(A, B, point, load, store, sc.friction, sc.gravity, sc.P, counts);
-      record_visit(rec.conv, va0, wa0, vb0, wb0, A, B, sc.P);
+      record_visit(rec.conv, va0, wa0, vb0, wb0, A, B, sc.P, counts.shortened_steps);
       for (int q = 0; q < 4; ++q) twin.conv[q] = rec.conv[q];
       vel[i] = f4(A.v, 0.0f);
       ang[i] = f4(A.w, 0.0f);

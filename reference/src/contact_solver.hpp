@@ -117,9 +117,10 @@ void World<T>::solve_contacts() {
       BodyView<T> A = solver::view_of(bodies_, ia);
       BodyView<T> B = solver::view_of(bodies_, ib);
       // eq 113 (oriented-box model): from pass converged_pass on, a visit
-      // that last changed its sides' velocities by less than converged_speed,
-      // and whose sides have moved by less than that since, is converged
-      // and skipped (it would apply almost nothing again).
+      // that last changed its sides' velocities by less than converged_speed
+      // with full steps (no alpha < 1 of eq 99), and whose sides have moved
+      // by less than that since, is converged and skipped (it would apply
+      // almost nothing again).
       if (oriented && it >= P_.converged_pass && idle.small &&
           visit_converged(idle.va, idle.wa, A.v, A.w, P_.converged_speed) &&
           visit_converged(idle.vb, idle.wb, B.v, B.w, P_.converged_speed)) {
@@ -161,7 +162,8 @@ void World<T>::solve_contacts() {
       idle.version_a = velocity_version_[static_cast<std::size_t>(ia)];
       idle.version_b = ib >= 0 ? velocity_version_[static_cast<std::size_t>(ib)] : 0u;
       idle.solver_contacts = counts.solver_contacts;
-      idle.small = visit_converged(va0, wa0, A.v, A.w, P_.converged_speed) &&
+      idle.small = counts.shortened_steps == 0 &&  // a shortened step (eq 99) made partial progress
+                   visit_converged(va0, wa0, A.v, A.w, P_.converged_speed) &&
                    visit_converged(vb0, wb0, B.v, B.w, P_.converged_speed);
       idle.va = A.v;
       idle.wa = A.w;

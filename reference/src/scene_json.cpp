@@ -225,7 +225,7 @@ const std::vector<ConstSpec>& constant_specs() {
       R("contact_tolerance", &C::contact_tolerance,
         {0.0, 1.0, false, false, "m", "the default is 0.01"}),
       R("converged_speed", &C::converged_speed,
-        {0.0, 100.0, false, false, "m/s", "the default is 0.03125; 0 runs every solver pass in full"}),
+        {0.0, 100.0, false, false, "m/s", "the default is 0 (every solver pass in full); 0.03125 skips converged visits"}),
       R("kp", &C::kp, {0.0, 1000.0, false, false, "rad/s", "the default is 30"}),
       R("kd", &C::kd, {0.0, 1000.0, false, false, "1/s", "the default is 10"}),
       R("speed_factor_min", &C::speed_factor_min, {0.0, 100.0, false, false, "", "the default is 0.5"}),

@@ -55,6 +55,24 @@ TEST(GpuHost, SingleBodyScenesMatchWorldFloatBitForBit) {
   }
 }
 
+// Eq 113 with the skip on (converged_speed 2^-5; the default, 0, never
+// skips): the GPU engine keeps each visit's record as World<T> does and
+// skips the same visits, so a single body and the stacks still give
+// World<float>'s bits and counters (fewer points visited than in full).
+TEST(GpuHost, ConvergedSkipMatchesWorldFloatBitForBit) {
+  for (const char* name : {"drop", "bounce", "tip_corner", "stack5"}) {
+    SCOPED_TRACE(name);
+    Scene s = scene(name, PairModel::kOrientedBox);
+    const SideBySide full = expect_world_float_bits(s);
+    s.constants.converged_speed = 1.0 / 32.0;
+    const SideBySide skip = expect_world_float_bits(s);
+    EXPECT_EQ(skip.gpu.solver_contacts, skip.world.solver_contacts);
+    EXPECT_EQ(skip.gpu.normal_impulses, skip.world.normal_impulses);
+    EXPECT_EQ(skip.gpu.friction_steps, skip.world.friction_steps);
+    EXPECT_LT(skip.world.solver_contacts, full.world.solver_contacts);
+  }
+}
+
 // Where World<T>'s sequential order is bottom-up (a stack built from the
 // ground, a body resting on one other), the coloured solver visits the
 // contacts in the same order (ground, then one colour per contact upwards)

@@ -795,7 +795,7 @@ std::vector<Case> cases_for(const std::string& fn, Rng& rng) {
       // A side's velocities before and after: each component within about
       // converged_speed of its old value, some beyond it.
       const V v0 = rng.vec(-3, 3), w0 = rng.vec(-3, 3);
-      const Q16 e = P.converged_speed;
+      const Q16 e = Q16::from_double(1.0 / 32.0);  // an eps in use (the default, 0, never converges)
       const V dv{rng.q16(-1.3, 1.3) * e, rng.q16(-1.3, 1.3) * e, rng.q16(-1.3, 1.3) * e};
       const V dw{rng.q16(-1.3, 1.3) * e, rng.q16(-1.3, 1.3) * e, rng.q16(-1.3, 1.3) * e};
       in = {{"v0", to_json(v0)}, {"w0", to_json(w0)}, {"v", to_json(v0 + dv)}, {"w", to_json(w0 + dw)}, {"eps", to_json(e)}};
@@ -1007,10 +1007,11 @@ std::vector<Case> cases_for(const std::string& fn, Rng& rng) {
     add({{"penetration", -1}, {"width", 0}}, "width 0: a gap weighs 0 (no division)", {"Edge"});
   } else if (fn == "visit_converged") {
     const Json z = to_json(V{});
-    const Json eps = to_json(P.converged_speed);
-    add({{"v0", z}, {"w0", z}, {"v", to_json(V{P.converged_speed, Q16{}, Q16{}})}, {"w", z}, {"eps", eps}},
+    const Q16 e = Q16::from_double(1.0 / 32.0);
+    const Json eps = to_json(e);
+    add({{"v0", z}, {"w0", z}, {"v", to_json(V{e, Q16{}, Q16{}})}, {"w", z}, {"eps", eps}},
         "a change of exactly eps: not converged (strict <)", {"Edge"});
-    add({{"v0", z}, {"w0", z}, {"v", z}, {"w", to_json(V{Q16{}, Q16{}, P.converged_speed - Q16::from_raw(1)})}, {"eps", eps}},
+    add({{"v0", z}, {"w0", z}, {"v", z}, {"w", to_json(V{Q16{}, Q16{}, e - Q16::from_raw(1)})}, {"eps", eps}},
         "a spin change 1 ulp below eps: converged", {"Edge"});
     add({{"v0", z}, {"w0", z}, {"v", z}, {"w", z}, {"eps", 0}}, "eps 0: never converged", {"Edge"});
   } else if (fn == "over_support") {

@@ -70,7 +70,7 @@ struct Constants {
   double baumgarte = 1.0;               // percent (1) eq 63
   int solver_iterations = 8;            // sequential-impulse passes (7.2), alternating direction
   double contact_tolerance = 0.01;      // (m) points this close to touching are (speculative) contacts (84, 97)
-  double converged_speed = 0.03125;     // (m/s, rad/s) eq 113: 2^-5; a solver visit whose sides move less is converged (0: never)
+  double converged_speed = 0.0;         // (m/s, rad/s) eq 113: a solver visit whose sides move less is converged; 0 (default): every pass in full
   double kp = 30.0;                     // (rad/s) eq 69
   double kd = 10.0;                     // (1/s) eq 71
   double speed_factor_min = 0.5;        // eq 69

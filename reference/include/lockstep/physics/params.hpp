@@ -18,7 +18,7 @@ struct Params {
   T slop, baumgarte;                // eq 63
   int solver_iterations;
   int converged_pass;               // eq 113: from this pass (0-based: solver_iterations / 4) on, converged visits are skipped
-  T converged_speed;                // eq 113 (m/s, rad/s; default 2^-5): a visit whose sides changed less is converged (0: never)
+  T converged_speed;                // eq 113 (m/s, rad/s; default 0: never): a visit whose sides changed less is converged
   T contact_tolerance;              // eqs 84, 97: speculative contact distance
   T support_fade;                   // eq 98: max(slop, |g dt| dt) (m); |g dt| dt: how far a body falls from rest in one frame
   T kp, kd_dt, speed_factor_min, speed_factor_max;  // eqs 69-71

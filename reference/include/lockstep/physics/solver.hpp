@@ -48,6 +48,7 @@ struct SolveCounts {
   unsigned normal_impulses = 0;      // non-zero normal impulses applied (eqs 53, 87)
   unsigned restitution_bounces = 0;  // contacts prepared with e_eff > 0 (eq 76)
   unsigned friction_steps = 0;       // non-zero friction impulses applied (eqs 61-62)
+  unsigned shortened_steps = 0;      // eq 99 steps shortened below half (alpha < 1/2): partial progress, never converged (eq 113)
 };
 
 // A contact's solver state (eqs 94-96): accumulated impulses and the values
@@ -244,6 +245,7 @@ LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point_at,
                           const Store& store_at, bool friction, bool gravity, const T& k_scale, const Params<T>& P,
                           SolveCounts& counts) {
   const T one = Num<T>::from_int(1);
+  const T half = Num<T>::from_double(0.5);  // eq 113: a step shortened below it is partial progress
   constexpr int M = kManifoldCache ? N : 1;
   // kManifoldCache: the points and states, read once (the first loop below).
   Vec3<T> pr1[M], pr2[M], pn[M];
@@ -325,6 +327,7 @@ LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point_at,
         kManifoldCache ? delta : nullptr, kManifoldCache ? formed : nullptr, kManifoldCache ? impulse : nullptr,
         end);
     if (alpha < one) {
+      if (alpha < half) ++counts.shortened_steps;  // eq 113: less than half the proposals' change
       for (int k = 0; k < end; ++k) dj[k] = dj[k] * alpha;
     } else {
       cached = kManifoldCache;
@@ -403,6 +406,7 @@ LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point_at,
         kManifoldCache ? delta : nullptr, kManifoldCache ? formed : nullptr, kManifoldCache ? impulse : nullptr,
         end);
     if (alpha < one) {
+      if (alpha < half) ++counts.shortened_steps;  // eq 113: less than half the proposals' change
       for (int k = 0; k < end; ++k) dJ[k] = dJ[k] * alpha;
     } else {
       cached = kManifoldCache;
