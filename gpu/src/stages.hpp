@@ -657,7 +657,7 @@ struct SolverData {
 // less than that since. `st`: the 4 F4 of its record, A the lower index.
 LS_HD inline bool visit_is_converged(const F4* st, const BodyView<float>& A, const BodyView<float>& B,
                                      const Params<float>& P, int pass) {
-  if (pass == 0 || pass < P.converged_pass || st[0].w == 0.0f) return false;
+  if (!(P.converged_speed > 0.0f) || pass == 0 || pass < P.converged_pass || st[0].w == 0.0f) return false;
   return visit_converged(xyz(st[0]), xyz(st[1]), A.v, A.w, P.converged_speed) &&
          visit_converged(xyz(st[2]), xyz(st[3]), B.v, B.w, P.converged_speed);
 }
@@ -666,6 +666,7 @@ LS_HD inline bool visit_is_converged(const F4* st, const BodyView<float>& A, con
 LS_HD inline void record_visit(F4* st, const Vec3<float>& va0, const Vec3<float>& wa0, const Vec3<float>& vb0,
                                const Vec3<float>& wb0, const BodyView<float>& A, const BodyView<float>& B,
                                const Params<float>& P, unsigned shortened) {
+  if (!(P.converged_speed > 0.0f)) return;  // the skip is off (the default): no record is read, none is kept
   const bool small = shortened == 0 && visit_converged(va0, wa0, A.v, A.w, P.converged_speed) &&
                      visit_converged(vb0, wb0, B.v, B.w, P.converged_speed);
   st[0] = f4(A.v, small ? 1.0f : 0.0f);
@@ -1234,7 +1235,8 @@ struct SolveEdgeK {
       SolveCounts counts;
       solve_manifold<kBoxManifoldPoints>(A, B, point, load, store, sc.friction, sc.gravity, sc.P, counts);
       record_visit(rec.conv, va0, wa0, vb0, wb0, A, B, sc.P, counts.shortened_steps);
-      for (int q = 0; q < 4; ++q) twin.conv[q] = rec.conv[q];
+      if (sc.P.converged_speed > 0.0f)
+        for (int q = 0; q < 4; ++q) twin.conv[q] = rec.conv[q];
       vel[i] = f4(A.v, 0.0f);
       ang[i] = f4(A.w, 0.0f);
       vel[j] = f4(B.v, 0.0f);
