@@ -99,6 +99,7 @@ void World<T>::solve_contacts() {
   // none again: it is skipped (the same bits), counted as the visit it
   // repeats. velocity_version_[i] counts the visits that changed body i.
   velocity_version_.assign(bodies_.size(), 0u);
+  const bool skip_converged = oriented && P_.converged_speed > T{};  // eq 113
   idle_visits_.assign(visits.size(), IdleVisit{});
   // 7.2 step 5 (oriented-box model): even passes visit the list in order,
   // odd passes in reverse (symmetric Gauss-Seidel), so an impact on top of a
@@ -114,22 +115,24 @@ void World<T>::solve_contacts() {
       const unsigned version_a = velocity_version_[static_cast<std::size_t>(ia)];
       const unsigned version_b = ib >= 0 ? velocity_version_[static_cast<std::size_t>(ib)] : 0u;
       IdleVisit& idle = idle_visits_[at];
-      BodyView<T> A = solver::view_of(bodies_, ia);
-      BodyView<T> B = solver::view_of(bodies_, ib);
-      // eq 113 (oriented-box model): from pass converged_pass on, a visit
-      // that last changed its sides' velocities by less than converged_speed
-      // with full steps (no alpha < 1 of eq 99), and whose sides have moved
-      // by less than that since, is converged and skipped (it would apply
-      // almost nothing again).
-      if (oriented && it >= P_.converged_pass && idle.small &&
-          visit_converged(idle.va, idle.wa, A.v, A.w, P_.converged_speed) &&
-          visit_converged(idle.vb, idle.wb, B.v, B.w, P_.converged_speed)) {
-        continue;
+      // eq 113 (oriented-box model, converged_speed > 0): from pass
+      // converged_pass on, a visit that last changed its sides' velocities
+      // by less than converged_speed with no step of eq 99 shortened below
+      // 1/2, and whose sides have moved by less than that since, is
+      // converged and skipped (it would apply almost nothing again). Checked
+      // before the idle skip, as the GPU engine (which has none) does.
+      if (skip_converged && it >= P_.converged_pass && idle.small) {
+        const BodyView<T> A = solver::view_of(bodies_, ia), B = solver::view_of(bodies_, ib);
+        if (visit_converged(idle.va, idle.wa, A.v, A.w, P_.converged_speed) &&
+            visit_converged(idle.vb, idle.wb, B.v, B.w, P_.converged_speed))
+          continue;
       }
       if (idle.idle && idle.version_a == version_a && idle.version_b == version_b) {
         counters_.solver_contacts += idle.solver_contacts;  // the visit it repeats: no impulse
         continue;
       }
+      BodyView<T> A = solver::view_of(bodies_, ia);
+      BodyView<T> B = solver::view_of(bodies_, ib);
       const Vec3<T> va0 = A.v, wa0 = A.w, vb0 = B.v, wb0 = B.w;
       SolveCounts counts;
       if (manifold) {
@@ -162,6 +165,7 @@ void World<T>::solve_contacts() {
       idle.version_a = velocity_version_[static_cast<std::size_t>(ia)];
       idle.version_b = ib >= 0 ? velocity_version_[static_cast<std::size_t>(ib)] : 0u;
       idle.solver_contacts = counts.solver_contacts;
+      if (!skip_converged) continue;  // eq 113 off (the default): no record is kept
       idle.small = counts.shortened_steps == 0 &&  // a shortened step (eq 99) made partial progress
                    visit_converged(va0, wa0, A.v, A.w, P_.converged_speed) &&
                    visit_converged(vb0, wb0, B.v, B.w, P_.converged_speed);

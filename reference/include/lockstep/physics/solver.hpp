@@ -63,13 +63,11 @@ struct ContactState {
   T k_n{};        // inverse effective mass along n (eq 86, 1/kg); 0: both sides immovable
 };
 
-// The preparation of one contact (eqs 48-50, 58, 76, 86) with the velocities
-// before the warm start: A is body 1 with lever arm r1 and material (e1, mu1),
-// B body 2 with r2 and (e2, mu2), n points from B to A. Impulses start at 0.
 // eq 113 (7.2 step 5): one side of a solver visit is converged when each
 // component of its velocity v (m/s) and angular velocity w (rad/s) differs
 // from what the visit last left, v0 and w0, by less than eps
-// (converged_speed, 2^-5): exact comparisons, no rounding.
+// (converged_speed; 0, the default, is never met): exact comparisons, no
+// rounding.
 template <class T>
 LS_HD bool visit_converged(const Vec3<T>& v0, const Vec3<T>& w0, const Vec3<T>& v, const Vec3<T>& w, const T& eps) {
   for (int k = 0; k < 3; ++k)
@@ -77,6 +75,9 @@ LS_HD bool visit_converged(const Vec3<T>& v0, const Vec3<T>& w0, const Vec3<T>& 
   return true;
 }
 
+// The preparation of one contact (eqs 48-50, 58, 76, 86) with the velocities
+// before the warm start: A is body 1 with lever arm r1 and material (e1, mu1),
+// B body 2 with r2 and (e2, mu2), n points from B to A. Impulses start at 0.
 template <class T>
 LS_HD ContactState<T> prepare_contact(const BodyView<T>& A, const Vec3<T>& r1, const BodyView<T>& B, const Vec3<T>& r2,
                                       const Vec3<T>& n, const T& e1, const T& mu1, const T& e2, const T& mu2,
