@@ -798,7 +798,7 @@ struct ContactsK {
         const float depth = ground_corner_depth(p, R, h, c, sc.ground_y, corner);
         if (!(depth > -itol)) continue;
         ++ground_contacts;
-        if (depth > -slop && !(up.y >= min_up)) loaded = true;
+        if (depth > -slop && holds_off_support(up, true, min_up)) loaded = true;  // eq 112
         if (depth > -fade && up.y >= min_up) add_support(kStaticSupport, up, depth, corner);
         mask |= 1 << c;
         immovable(c, corner - p, up, sc.ground_e, sc.ground_mu, ((prev_mask >> c) & 1) != 0);
@@ -819,7 +819,7 @@ struct ContactsK {
           continue;
         }
         ++sdf_contacts;
-        if (c.penetration > -slop && !(c.n.y >= min_up)) loaded = true;
+        if (c.penetration > -slop && holds_off_support(c.n, true, min_up)) loaded = true;  // eq 112
         if (c.penetration > -fade && c.n.y >= min_up) add_support(kStaticSupport, c.n, c.penetration, c.point);
         immovable(e, xyz(c1) - p, xyz(c0), mat.x, mat.y, had);
       }
@@ -881,7 +881,7 @@ struct ContactsK {
         const int prev_count = prev_t >= 0 ? ro(&prev.man[prev_t].count) : 0;
         SolveCounts here;
         for (int c = 0; c < mf.count; ++c) {
-          if (mf.penetration[c] > -slop && !(n_i.y >= min_up)) loaded = true;
+          if (mf.penetration[c] > -slop && holds_off_support(n_i, !j_awake, min_up)) loaded = true;  // eq 112
           if (mf.penetration[c] > -fade && n_i.y >= min_up) add_support(j, n_i, mf.penetration[c], mf.point[c]);
           const Vec3<float> r1 = mf.point[c] - (lower ? p : pj), r2 = mf.point[c] - (lower ? pj : p);
           ContactState<float> cs =
@@ -909,7 +909,7 @@ struct ContactsK {
       if (!j_awake) ++immovable_bodies;
       if (edges.mate != nullptr) init_edge(edges, d.lists, i, t, j, j_awake, p.y, pj.y);
       if (j_awake && ((directions >> shift) & 255u) < 255u) directions += Counter{1} << shift;
-      if (pc.penetration > -slop && !(n_i.y >= min_up)) loaded = true;
+      if (pc.penetration > -slop && holds_off_support(n_i, !j_awake, min_up)) loaded = true;  // eq 112
       if (pc.penetration > -fade && n_i.y >= min_up) add_support(j, n_i, pc.penetration, pc.point);
       const BodyView<float> other0 = view_of(b, j, b.vel, b.ang);
       const Vec3<float> r1 = pc.point - (lower ? p : pj), r2 = pc.point - (lower ? pj : p);
@@ -1464,6 +1464,7 @@ struct CommitSleepK {
   int* error;
   Counter* ctr;
   int* ready = nullptr;  // oriented-box model: per slot, 1 when its counter reached sleep_frames (eq 109 decides)
+  const int* over = nullptr;  // oriented-box model: per body, over its support (eq 112)
   LS_HD void operator()(int k) const {
     const int i = list[k];
     const F4 p4 = p_in[k];
@@ -1477,8 +1478,9 @@ struct CommitSleepK {
     bool asleep = false;
     if (sc.sleep) {
       int counter = b.sleep_counter[i];
-      const bool supported = support_idx[i] != kNoSupport;
-      const Vec3<float> up = supported ? xyz(support_n[i]) : Vec3<float>{0.0f, Num<float>::from_int(1), 0.0f};
+      // eq 78's support; one not over it (eq 112, the oriented-box model) is tipping: no candidate.
+      const bool supported = support_idx[i] != kNoSupport && (over == nullptr || over[i] != 0);
+      const Vec3<float> up = support_idx[i] != kNoSupport ? xyz(support_n[i]) : Vec3<float>{0.0f, Num<float>::from_int(1), 0.0f};
       asleep = update_sleep(v, w, counter, supported, !sc.oriented, R, up, length(xyz(b.half[i])), sc.P);
       b.sleep_counter[i] = counter;
       if (ready != nullptr) ready[k] = counter >= sc.P.sleep_frames ? 1 : 0;

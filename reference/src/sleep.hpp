@@ -90,8 +90,10 @@ void World<T>::update_sleep() {
     Body<T>& b = bodies_[i];
     if (!b.awake()) continue;
     ++counters_.sleep_updates;
-    const bool supported = support_[i] >= 0;
-    const Vec3<T> up = supported ? support_normal(i) : Vec3<T>{T{}, Num<T>::from_int(1), T{}};
+    // eq 78's support; with the oriented-box model a body that is not over
+    // its support (eq 112) is tipping, not resting: no candidate.
+    const bool supported = support_[i] >= 0 && (!oriented || over_support_[i] != 0);
+    const Vec3<T> up = support_[i] >= 0 ? support_normal(i) : Vec3<T>{T{}, Num<T>::from_int(1), T{}};
     if (lockstep::update_sleep(b.v, b.w, b.sleep_counter, supported, !oriented, b.R, up, length(b.half),
                                P_)) {  // eqs 78-80
       b.asleep = true;

@@ -278,14 +278,17 @@ TYPED_TEST(AnalyticTest, Eq113ConvergedSkipKeepsAColumnAsTheFullSolve) {
 // Before eq 112 the righting torque and the damping regimes held the first
 // one: it fell asleep hanging over the edge (x 1.015 m, frame 150, fixed).
 // Returns the small cube's final state after up to `frames` frames.
+// With `loaded`, a second unit cube rests on the small one, centred over it
+// (body 2).
 template <class T>
-World<T> overhang(double x, int frames) {
+World<T> overhang(double x, int frames, bool loaded = false) {
   Scene s;
   BodyDesc base = unit_cube(0, 1, 0);
   base.half_extents = {1, 1, 1};
   base.mass = 20;
   BodyDesc top = unit_cube(x, 2.5, 0);
   s.bodies = {base, top};
+  if (loaded) s.bodies.push_back(unit_cube(x, 3.5, 0));
   World<T> w(s);
   for (int n = 0; n < frames && !w.all_asleep(); ++n) w.step();
   return w;
@@ -305,6 +308,35 @@ TYPED_TEST(AnalyticTest, OverhangingBoxTipsOff) {
   }
   const World<T> on = overhang<T>(0.98, frames);
   EXPECT_NEAR(d(on.body(1).p.y), 2.5, 0.01) << "the supported cube left the top";
+  EXPECT_NEAR(d(on.body(1).p.x), 0.98, 0.01);
+  if (!std::is_same_v<T, Mp>) {
+    EXPECT_TRUE(on.all_asleep());
+  }
+}
+
+// Eq 112 with a load: an awake body resting on a body presses it down and
+// tips with it, so it does not exempt it from eq 112 (only a push from the
+// side or from something immovable above does), and a body that is not over
+// its support is no sleep candidate (78). The overhanging cube of
+// OverhangingBoxTipsOff with a second cube on it (their common centre 2 cm
+// beyond the edge) tips off with its load; 2 cm inside the edge both stay.
+// Before, the load exempted the cube: settling (75) held it (a box under a
+// column, landed on one edge, hung with its other edge 15 mm up for 10
+// frames: AgreementProp seed 7027), and the drowsy stage (79) stopped the
+// slow start of the tip: both cubes fell asleep hanging (frame 43).
+TYPED_TEST(AnalyticTest, OverhangingBoxWithALoadTipsOff) {
+  using T = TypeParam;
+  const int frames = std::is_same_v<T, Mp> ? 200 : 600;
+  const World<T> off = overhang<T>(1.02, frames, true);
+  EXPECT_LT(d(off.body(1).p.y), 0.6) << "the loaded overhanging cube is not on the ground at frame " << off.frame()
+                                     << " (x " << d(off.body(1).p.x) << " m, y " << d(off.body(1).p.y) << " m)";
+  EXPECT_LT(d(off.body(2).p.y), 1.6) << "its load is not off the base (y " << d(off.body(2).p.y) << " m)";
+  if (!std::is_same_v<T, Mp>) {
+    EXPECT_TRUE(off.all_asleep());
+  }
+  const World<T> on = overhang<T>(0.98, frames, true);
+  EXPECT_NEAR(d(on.body(1).p.y), 2.5, 0.01) << "the supported cube left the top";
+  EXPECT_NEAR(d(on.body(2).p.y), 3.5, 0.01) << "its load left it";
   EXPECT_NEAR(d(on.body(1).p.x), 0.98, 0.01);
   if (!std::is_same_v<T, Mp>) {
     EXPECT_TRUE(on.all_asleep());

@@ -503,6 +503,20 @@ TEST(SettleTest, Eq112OverSupport) {
   EXPECT_TRUE(over_support(many, kMaxSupportPoints + 1, up));
 }
 
+// eq 112's holds: a touching contact exempts a body from eq 112 when its
+// normal towards the body is not a support normal and it pushes from the side,
+// or from above by something immovable; an awake body above is a load.
+TEST(SettleTest, Eq112HoldsOffSupport) {
+  const double m = 0.7;
+  EXPECT_FALSE(holds_off_support(V{0, 1, 0}, true, m));                  // a support
+  EXPECT_FALSE(holds_off_support(V{0, 0.7, 0.714}, false, m));           // a support at the limit (n.y = m)
+  EXPECT_TRUE(holds_off_support(V{1, 0, 0}, false, m));                  // an awake neighbour beside it
+  EXPECT_TRUE(holds_off_support(V{0.714, -0.69, 0}, false, m));          // beside, just above the limit
+  EXPECT_FALSE(holds_off_support(V{0, -1, 0}, false, m));                // an awake body on it: a load
+  EXPECT_FALSE(holds_off_support(V{0.714, -0.7, 0}, false, m));          // from above at the limit (n.y = -m)
+  EXPECT_TRUE(holds_off_support(V{0, -1, 0}, true, m));                  // a sleeper, static body or SDF above: a wedge
+}
+
 // eq 113: strict per-component comparisons, in every number type.
 template <class T>
 void expect_visit_converged() {

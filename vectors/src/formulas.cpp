@@ -336,6 +336,11 @@ Json f_over_support(In in, const std::string& p) {
   for (std::size_t k = 0; k < rs.size(); ++k) r.push_back(vec_at(Json{{"r", rs[k]}}, "r", p + ".r[" + std::to_string(k) + "]"));
   return Json{{"over", over_support(r.data(), static_cast<int>(r.size()), vec_at(in, "n", p))}};
 }
+// eq 112's holds: whether a touching contact exempts a body from eq 112.
+Json f_holds_off_support(In in, const std::string& p) {
+  return Json{{"holds", holds_off_support(vec_at(in, "n", p), bool_at(in, "immovable", p),
+                                          q16_at(in, "support_normal_min", p))}};
+}
 // eq 113: whether one side of a solver visit is converged.
 Json f_visit_converged(In in, const std::string& p) {
   return Json{{"converged", visit_converged(vec_at(in, "v0", p), vec_at(in, "w0", p), vec_at(in, "v", p),
@@ -515,6 +520,8 @@ const std::vector<Formula>& formulas() {
        "false iff some r[j] has every r[k] with cross(r[j], r[k]).n > 0, or = 0 and "
        "dot(r[j], r[k]) - (r[j].n)(r[k].n) > 0; else true (0 arms: true)",
        f_over_support},
+      {"holds_off_support", {112}, "n.y < support_normal_min and (immovable or n.y > -support_normal_min)",
+       f_holds_off_support},
       {"settle_linear", {77}, "v * settle_factor if speed < settle_speed, else v", f_settle_linear},
       {"visit_converged", {113}, "true iff |v_k - v0_k| < eps and |w_k - w0_k| < eps for every component k",
        f_visit_converged},
@@ -791,6 +798,10 @@ std::vector<Case> cases_for(const std::string& fn, Rng& rng) {
       for (int c = 0; c < count; ++c)
         r.push_back(to_json(V{(c & 1 ? h.x : -h.x) + shift.x, -h.y, (c & 2 ? h.z : -h.z) + shift.z}));
       in = {{"r", r}, {"n", k % 3 ? up : to_json(normalize(V{rng.q16(-0.3, 0.3), Q16::from_int(1), rng.q16(-0.3, 0.3)}))}};
+    } else if (fn == "holds_off_support") {
+      // A contact normal (towards the body) from any direction, from an awake or an immovable other side.
+      in = {{"n", to_json(normalize(rng.vec(-1, 1)))}, {"immovable", k % 2 == 0},
+            {"support_normal_min", to_json(P.support_normal_min)}};
     } else if (fn == "visit_converged") {
       // A side's velocities before and after: each component within about
       // converged_speed of its old value, some beyond it.
@@ -976,6 +987,14 @@ std::vector<Case> cases_for(const std::string& fn, Rng& rng) {
   } else if (fn == "sdf_sample") {
     add({{"p", Json::array({-kOne, -32768, -3 * 32768})}}, "the grid's min corner", {"Edge"});
     add({{"p", Json::array({kOne, kOne, 3 * 32768})}}, "the grid's max corner", {"Edge"});
+  } else if (fn == "holds_off_support") {
+    const Q16 m = P.support_normal_min;
+    for (const bool imm : {false, true}) {
+      add({{"n", to_json(V{Q16{}, m, Q16{}})}, {"immovable", imm}, {"support_normal_min", to_json(m)}},
+          "n.y exactly support_normal_min: a support", {"Edge"});
+      add({{"n", to_json(V{Q16{}, -m, Q16{}})}, {"immovable", imm}, {"support_normal_min", to_json(m)}},
+          "n.y exactly -support_normal_min: from above", {"Edge"});
+    }
   } else if (fn == "regime_damping") {
     for (const Q16 a : {P.align_fine, P.align_good, P.align_fair})
       add({{"w", Json::array({kOne, -kOne, 3})}, {"alignment", to_json(a)}},

@@ -23,3 +23,13 @@ struct Num<Q16> {
 };
 
 }  // namespace lockstep
+
+// Every translation unit that can instantiate a template on Q16 (they all
+// need Num<Q16>) also sees the exact-accumulator overloads: with only the
+// generic formulas of math/vec.hpp in view, an inline template such as
+// Params<Q16>::from was instantiated with the generic length (rounded
+// differently), and the linker kept whichever copy came first: a test binary
+// ran a fixed engine whose support_fade differed by an ulp from the one the
+// lockstep command runs (AgreementProp seed 7020). vec.hpp's generic
+// versions of these operations now refuse Q16 at compile time.
+#include "lockstep/fixed/q16_vec.hpp"

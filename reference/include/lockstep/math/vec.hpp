@@ -5,10 +5,24 @@
 // exact-accumulator versions in fixed/include/lockstep/fixed/q16_vec.hpp,
 // found by overload resolution (a non-template beats a template).
 #pragma once
+#include <type_traits>
+
 #include "lockstep/hd.hpp"
 #include "lockstep/math/num.hpp"
 
 namespace lockstep {
+
+class Q16;
+// The generic formulas below that Q16 overrides refuse Q16: instantiated on
+// it (the overloads not in view), they would round differently from the
+// overloads, and an inline template instantiated both ways in two translation
+// units would leave the linker to pick one (an ODR violation that changed
+// the fixed engine's bits in one binary). lockstep/fixed/q16_num.hpp includes
+// q16_vec.hpp, so code that has Num<Q16> has the overloads.
+template <class T>
+inline constexpr bool kGenericFormula = !std::is_same_v<T, Q16>;
+#define LOCKSTEP_NOT_Q16(T) \
+  static_assert(kGenericFormula<T>, "Q16 uses the overloads of lockstep/fixed/q16_vec.hpp: include it")
 
 template <class T>
 struct Vec3 {
@@ -45,19 +59,30 @@ template <class T> LS_HD Vec3<T>& operator-=(Vec3<T>& a, const Vec3<T>& b) { a =
 // Component-wise product.
 template <class T> LS_HD Vec3<T> hadamard(const Vec3<T>& a, const Vec3<T>& b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
 
-template <class T> LS_HD T dot(const Vec3<T>& a, const Vec3<T>& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+template <class T> LS_HD T dot(const Vec3<T>& a, const Vec3<T>& b) {
+  LOCKSTEP_NOT_Q16(T);
+  return a.x * b.x + a.y * b.y + a.z * b.z;
+}
 // eq 51: a x b.
 template <class T> LS_HD Vec3<T> cross(const Vec3<T>& a, const Vec3<T>& b) {
+  LOCKSTEP_NOT_Q16(T);
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
-template <class T> LS_HD T length_sq(const Vec3<T>& a) { return dot(a, a); }
-template <class T> LS_HD T length(const Vec3<T>& a) { return Num<T>::sqrt(length_sq(a)); }
+template <class T> LS_HD T length_sq(const Vec3<T>& a) {
+  LOCKSTEP_NOT_Q16(T);
+  return dot(a, a);
+}
+template <class T> LS_HD T length(const Vec3<T>& a) {
+  LOCKSTEP_NOT_Q16(T);
+  return Num<T>::sqrt(length_sq(a));
+}
 // The largest |component| (exact in every number type: no rounding).
 template <class T> LS_HD_INLINE T max_abs(const Vec3<T>& a) {
   return Num<T>::max(Num<T>::abs(a.x), Num<T>::max(Num<T>::abs(a.y), Num<T>::abs(a.z)));
 }
 // a / |a|; a zero vector gives zero (Q16 raises kQ16NormalizeZero instead).
 template <class T> LS_HD Vec3<T> normalize(const Vec3<T>& a) {
+  LOCKSTEP_NOT_Q16(T);
   const T len = length(a);
   if (len == T(0)) return a;
   return {a.x / len, a.y / len, a.z / len};
@@ -66,6 +91,7 @@ template <class T> LS_HD Vec3<T> normalize(const Vec3<T>& a) {
 // Whether |a| > 0, and then unit = normalize(a) (unit untouched otherwise):
 // the two as written, which Q16 forms from one square root.
 template <class T> LS_HD bool direction_of(const Vec3<T>& a, Vec3<T>& unit) {
+  LOCKSTEP_NOT_Q16(T);
   if (!(length(a) > T(0))) return false;
   unit = normalize(a);
   return true;
@@ -73,14 +99,19 @@ template <class T> LS_HD bool direction_of(const Vec3<T>& a, Vec3<T>& unit) {
 
 // Hamilton product a * b.
 template <class T> LS_HD Quat<T> operator*(const Quat<T>& a, const Quat<T>& b) {
+  LOCKSTEP_NOT_Q16(T);
   return {a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z,
           a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
           a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x,
           a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
 }
-template <class T> LS_HD T quat_length_sq(const Quat<T>& q) { return q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z; }
+template <class T> LS_HD T quat_length_sq(const Quat<T>& q) {
+  LOCKSTEP_NOT_Q16(T);
+  return q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z;
+}
 // eq 10: q / |q|; the zero quaternion gives the identity (Q16 also raises kQ16NormalizeZero).
 template <class T> LS_HD Quat<T> normalize(const Quat<T>& q) {
+  LOCKSTEP_NOT_Q16(T);
   const T len = Num<T>::sqrt(quat_length_sq(q));
   if (len == T(0)) return {T(1), T(0), T(0), T(0)};
   return {q.w / len, q.x / len, q.y / len, q.z / len};
@@ -88,6 +119,7 @@ template <class T> LS_HD Quat<T> normalize(const Quat<T>& q) {
 
 // Rotation matrix of a unit quaternion (eq 31 uses it as mat3_cast(q)).
 template <class T> LS_HD Mat3<T> rotation_matrix(const Quat<T>& q) {
+  LOCKSTEP_NOT_Q16(T);
   const T one(1), two(2);
   const T xx = q.x * q.x, yy = q.y * q.y, zz = q.z * q.z;
   const T xy = q.x * q.y, xz = q.x * q.z, yz = q.y * q.z;
@@ -97,13 +129,16 @@ template <class T> LS_HD Mat3<T> rotation_matrix(const Quat<T>& q) {
            {two * (xz - wy), two * (yz + wx), one - two * (xx + yy)}}};
 }
 template <class T> LS_HD Vec3<T> operator*(const Mat3<T>& m, const Vec3<T>& v) {
+  LOCKSTEP_NOT_Q16(T);
   return {dot(m.row[0], v), dot(m.row[1], v), dot(m.row[2], v)};
 }
 template <class T> LS_HD Vec3<T> mat_transpose_mul(const Mat3<T>& m, const Vec3<T>& v) {
+  LOCKSTEP_NOT_Q16(T);
   return m.row[0] * v.x + m.row[1] * v.y + m.row[2] * v.z;
 }
 // q v q*: v rotated by unit quaternion q, through its rotation matrix.
 template <class T> LS_HD Vec3<T> rotate(const Quat<T>& q, const Vec3<T>& v) {
+  LOCKSTEP_NOT_Q16(T);
   return rotation_matrix(q) * v;
 }
 

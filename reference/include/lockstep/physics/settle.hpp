@@ -107,6 +107,21 @@ LS_HD Vec3<T> cancel_resting_velocity(const Vec3<T>& v, const Vec3<T>& v_support
 // neighbour beside it, a body on it) is not asked (World: narrow_phase).
 constexpr int kMaxSupportPoints = 16;
 
+// eq 112: whether a contact touching a body (within slop) may hold it beyond
+// its support, so that eq 112 is not asked of it: its normal towards the body,
+// n, is not a support normal (n.y < support_normal_min) and it either pushes
+// from the side (n.y > -support_normal_min: a neighbour, a wall) or comes
+// from above from something immovable (`immovable`: the ground, an SDF, a
+// static or sleeping body: a box wedged under a sleeper). An awake body
+// resting on it is a load, not a hold: it presses down and tips with it (a
+// box under a column, landed on one edge, held there by (75) with its other
+// edge 15 mm up: AgreementProp seed 7027).
+template <class T>
+LS_HD bool holds_off_support(const Vec3<T>& n, bool immovable, const T& support_normal_min) {
+  if (n.y >= support_normal_min) return false;
+  return immovable || n.y > -support_normal_min;
+}
+
 template <class T>
 LS_HD bool over_support(const Vec3<T>* r, int count, const Vec3<T>& n) {
   if (count > kMaxSupportPoints) return true;
