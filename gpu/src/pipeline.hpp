@@ -599,7 +599,7 @@ void Pipeline<B>::step() {
                     support_n_.data(), frame_, keep_.data(), scal_.data() + 1, ctr_.data()};
     const bool eq109 = oriented_ && fx_.sleep;
     cs.ready = eq109 ? ready_.data() : nullptr;
-    if (oriented_) cs.over = over_support_.data();  // eq 112: one not over its support is no sleep candidate (78)
+    if (oriented_) cs.over = over_support_.data();  // eq 112: one not over its support is neither slowed nor put to sleep
     be_.for_n(n_active, cs);
     if (eq109) {  // eq 109: the ready bodies fall asleep bottom-up (sweeps)
       const PairManifold* pairs = contacts && n_awake > 0 ? man : nullptr;

@@ -943,7 +943,7 @@ struct ContactsK {
     support_idx[i] = support;
     const Vec3<float> n_s = support != kNoSupport ? normalize(support_sum) : Vec3<float>{};
     support_n[i] = f4(n_s, support_gap_min);  // w: the support gap
-    if (over_support != nullptr) over_support[i] = support == kNoSupport || loaded || lockstep::over_support(arms, n_arms, n_s) ? 1 : 0;
+    if (over_support != nullptr) over_support[i] = support == kNoSupport || loaded || lockstep::over_support(arms, n_arms, Vec3<float>{0.0f, Num<float>::from_int(1), 0.0f}) ? 1 : 0;  // eq 112, seen along up
     vout[i] = f4(self.v, 0.0f);
     wout[i] = f4(self.w, 0.0f);
     add_counter(&ctr[kCGroundContacts], ground_contacts);
@@ -1478,12 +1478,12 @@ struct CommitSleepK {
     bool asleep = false;
     if (sc.sleep) {
       int counter = b.sleep_counter[i];
-      // eq 78's support; one not over it (eq 112, the oriented-box model) is tipping: no candidate.
-      const bool supported = support_idx[i] != kNoSupport && (over == nullptr || over[i] != 0);
-      const Vec3<float> up = support_idx[i] != kNoSupport ? xyz(support_n[i]) : Vec3<float>{0.0f, Num<float>::from_int(1), 0.0f};
-      asleep = update_sleep(v, w, counter, supported, !sc.oriented, R, up, length(xyz(b.half[i])), sc.P);
+      const bool supported = support_idx[i] != kNoSupport;
+      const Vec3<float> up = supported ? xyz(support_n[i]) : Vec3<float>{0.0f, Num<float>::from_int(1), 0.0f};
+      const bool is_over = over == nullptr || over[i] != 0;  // eq 112: one not over its support is tipping
+      asleep = update_sleep(v, w, counter, supported, is_over, !sc.oriented, R, up, length(xyz(b.half[i])), sc.P);
       b.sleep_counter[i] = counter;
-      if (ready != nullptr) ready[k] = counter >= sc.P.sleep_frames ? 1 : 0;
+      if (ready != nullptr) ready[k] = is_over && counter >= sc.P.sleep_frames ? 1 : 0;
       b.vel[i] = f4(v, 0.0f);
       b.ang[i] = f4(w, 0.0f);
       if (asleep) {

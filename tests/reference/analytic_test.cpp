@@ -317,7 +317,7 @@ TYPED_TEST(AnalyticTest, OverhangingBoxTipsOff) {
 // Eq 112 with a load: an awake body resting on a body presses it down and
 // tips with it, so it does not exempt it from eq 112 (only a push from the
 // side or from something immovable above does), and a body that is not over
-// its support is no sleep candidate (78). The overhanging cube of
+// its support is neither slowed (79) nor put to sleep (80). The overhanging cube of
 // OverhangingBoxTipsOff with a second cube on it (their common centre 2 cm
 // beyond the edge) tips off with its load; 2 cm inside the edge both stay.
 // Before, the load exempted the cube: settling (75) held it (a box under a

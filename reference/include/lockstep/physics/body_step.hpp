@@ -61,15 +61,18 @@ LS_HD void integrate_pose(Vec3<T>& p, Quat<T>& q, const Vec3<T>& v, const Vec3<T
 
 // Stage 9 (eqs 78-80) for one awake body; `up` is its support normal (4.1),
 // (0, 1, 0) when unsupported; `counter` is its sleep counter (eq 78);
-// `radius` its half-diagonal |h| (m).
+// `radius` its half-diagonal |h| (m); `over`: it is over its support (eq 112;
+// true with the AABB model). A body that is not is tipping: its counter
+// counts, but it is neither slowed (79) nor put to sleep (80) this frame.
 // Returns true when it falls asleep (v and w are then zeroed, eq 80).
 template <class T>
-LS_HD bool update_sleep(Vec3<T>& v, Vec3<T>& w, int& counter, bool supported, bool support_resting, const Mat3<T>& R,
-                        const Vec3<T>& up, const T& radius, const Params<T>& P) {
+LS_HD bool update_sleep(Vec3<T>& v, Vec3<T>& w, int& counter, bool supported, bool over, bool support_resting,
+                        const Mat3<T>& R, const Vec3<T>& up, const T& radius, const Params<T>& P) {
   const T speed = length(v), spin = length(w);
   const Alignment<T> al = alignment_of(R, up);
   if (sleep_candidate(supported, speed, spin, al.alignment, radius, P)) ++counter;  // eq 78
   else counter = 0;
+  if (!over) return false;  // eq 112
   switch (sleep_stage(counter, P.drowsy_frames, P.sleep_frames)) {
     case SleepStage::kAsleep:  // eq 80
       if (!support_resting) {  // eq 109: wait, drowsy, for what holds it up to sleep first

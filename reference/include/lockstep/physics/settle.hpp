@@ -93,8 +93,8 @@ LS_HD Vec3<T> cancel_resting_velocity(const Vec3<T>& v, const Vec3<T>& v_support
   return v - n * (vn - keep);
 }
 
-// eq 112 (Part 4): whether a body's centre of mass, seen along its support
-// normal n, lies over its support: in the convex hull (boundary included) of
+// eq 112 (Part 4): whether a body's centre of mass, seen along n (the
+// engine passes up, (0, 1, 0): gravity decides), lies over its support: in the convex hull (boundary included) of
 // its support contacts' points, given as lever arms r[k] = point - p (the
 // centre at the origin), k < count. In the plane normal to n the centre is
 // strictly outside the hull exactly when some r[j] has every r[k] at an
@@ -103,8 +103,8 @@ LS_HD Vec3<T> cancel_resting_velocity(const Vec3<T>& v, const Vec3<T>& v_support
 // length never qualifies (the centre is over a contact point). O(count^2).
 // More than kMaxSupportPoints support contacts (count > kMaxSupportPoints,
 // only the first kMaxSupportPoints given) count as over: such a body is held
-// from many sides. A body that touches anything but its supports (a
-// neighbour beside it, a body on it) is not asked (World: narrow_phase).
+// from many sides. A body held by a contact that holds_off_support (a
+// neighbour beside it, a sleeper above it) is not asked (World: narrow_phase).
 constexpr int kMaxSupportPoints = 16;
 
 // eq 112: whether a contact touching a body (within slop) may hold it beyond
