@@ -268,7 +268,8 @@ class Pipeline final : public PipelineBase {
   Buf<int> nbr_[2], count_[2], slot_of_[2], stamp_[2];
   int stride_[2] = {16, 16};  // neighbour-list block per slot
   Buf<ContactRecord> pair_[2], imm_[2];
-  Buf<F4> conv_imm_;  // eq 113: per slot, its ground and SDF manifolds' last visits (this frame's solve only)
+  Buf<F4> conv_imm_;   // eq 113, with the skip on: per slot, its ground and SDF manifolds' last visits (this frame's solve only)
+  Buf<F4> conv_pair_;  // eq 113, with the skip on: per neighbour-list entry, its pair's last visit (this frame's solve only)
   Buf<int> ground_mask_[2];  // per slot: the ground corners in contact
   Buf<unsigned> work_key_[2];  // the solver's thread order (WorkOrder), sorted from 0 into r
   Buf<int> work_slot_[2];
@@ -466,12 +467,15 @@ void Pipeline<B>::step() {
   if (oriented_) man_[par].resize(entries);
   const auto imm = static_cast<std::size_t>(n_active) * static_cast<std::size_t>(sc_.imm_stride()) + 1;
   imm_[par].resize(imm);
-  if (oriented_) conv_imm_.resize(static_cast<std::size_t>(n_active) * static_cast<std::size_t>(sc_.ground_slots() / 8 + sc_.n_sdf) * 4 + 1);
+  const bool skip = oriented_ && sc_.P.converged_speed > 0.0f;  // eq 113's records exist only with the skip on
+  if (skip) conv_imm_.resize(static_cast<std::size_t>(n_active) * static_cast<std::size_t>(sc_.ground_slots() / 8 + sc_.n_sdf) * 4 + 1);
+  if (skip) conv_pair_.resize(entries * 4);
   ground_mask_[par].resize(static_cast<std::size_t>(n_active) + 1);
   immovable_.resize(static_cast<std::size_t>(n_active) + 1);
   PairManifold* man = oriented_ ? man_[par].data() : nullptr;
   const SolverData d{active, body_, sc_, nl, dir_count_.data(), sdf_c0_.data(), sdf_c1_.data(),
-                     imm_[par].data(), pair_[par].data(), man, oriented_ ? conv_imm_.data() : nullptr};
+                     imm_[par].data(), pair_[par].data(), man, skip ? conv_imm_.data() : nullptr,
+                     skip ? conv_pair_.data() : nullptr};
   if (n_active > 0) {
     const PreviousContacts prev{frame_ - 1, slot_of_[pp].data(), stamp_[pp].data(),
                                 NeighbourLists{nbr_[pp].data(), count_[pp].data(), stride_[pp]}, imm_[pp].data(),

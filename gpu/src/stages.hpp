@@ -270,7 +270,7 @@ LS_HD inline void store_state(const ContactState<float>& c, F4& a, F4& b) {
 // and its points' solver state; each body keeps its own copy (equal for two
 // active bodies: both compute it with the same arguments, and the coloured
 // solver writes both).
-struct alignas(32) PairManifold {
+struct alignas(32) PairManifold {  // 256 bytes (static_assert below)
   F4 n;                            // xyz: the normal (from the higher index towards the lower)
   F4 pt[kBoxManifoldPoints];       // xyz: the point (m), w: its penetration (m; negative: a speculative gap)
   int feature[kBoxManifoldPoints]; // eq 96's key
@@ -279,8 +279,9 @@ struct alignas(32) PairManifold {
   float depth = 0.0f;              // eq 110: the mean depth of the points
   int unused = 0;
   ContactRecord st[kBoxManifoldPoints];
-  F4 conv[4];                      // eq 113: the sides' v, w (lower index first) its last visit left; conv[0].w = 1: it changed them by < converged_speed
 };
+
+static_assert(sizeof(PairManifold) == 256, "the pair record: eq 113's records live apart (SolverData::conv_pair)");
 
 // eq 97 and 107: the AABB growth of a body at the broadphase, half the
 // contact tolerance plus, for an awake body, its speculative reach.
@@ -648,13 +649,20 @@ struct SolverData {
   ContactRecord* imm;   // immovable contacts' state, imm_stride() per slot
   ContactRecord* pair;  // body-body contacts' state, one per neighbour-list entry (each body keeps its own copy)
   PairManifold* man = nullptr;  // oriented-box model: the pair's manifold and state, per entry (instead of `pair`)
-  F4* conv_imm = nullptr;       // oriented-box model: eq 113's record (4 F4, as PairManifold::conv) of each slot's ground and SDF manifolds
+  // eq 113's records, only with the skip on (converged_speed > 0; null
+  // otherwise: none is read or written, and the pair record stays 256 bytes):
+  // 4 F4 per visit, the sides' v, w (lower index first) its last visit left,
+  // [0].w = 1 when it changed them by < converged_speed.
+  F4* conv_imm = nullptr;   // each slot's ground and SDF manifolds
+  F4* conv_pair = nullptr;  // each neighbour-list entry's pair (oriented-box model)
+  LS_HD F4* conv_of_pair(int t) const { return conv_pair != nullptr ? conv_pair + 4 * static_cast<long>(t) : nullptr; }
 };
 
 // eq 113 (7.2 step 5, oriented-box model): a visit is skipped, converged,
 // from pass converged_pass on (never the first) when its last visit changed
 // its sides' velocities by less than converged_speed and they have moved by
-// less than that since. `st`: the 4 F4 of its record, A the lower index.
+// less than that since. `st`: the 4 F4 of its record, A the lower index
+// (null, and never read, with the skip off).
 LS_HD inline bool visit_is_converged(const F4* st, const BodyView<float>& A, const BodyView<float>& B,
                                      const Params<float>& P, int pass) {
   if (!(P.converged_speed > 0.0f) || pass == 0 || pass < P.converged_pass || st[0].w == 0.0f) return false;
@@ -943,7 +951,12 @@ struct ContactsK {
     support_idx[i] = support;
     const Vec3<float> n_s = support != kNoSupport ? normalize(support_sum) : Vec3<float>{};
     support_n[i] = f4(n_s, support_gap_min);  // w: the support gap
-    if (over_support != nullptr) over_support[i] = support == kNoSupport || loaded || lockstep::over_support(arms, n_arms, Vec3<float>{0.0f, Num<float>::from_int(1), 0.0f}) ? 1 : 0;  // eq 112, seen along up
+    // eq 112, seen along up; a centre on the boundary counts while the body is slow
+    if (over_support != nullptr)
+      over_support[i] = support == kNoSupport || loaded ||
+                                lockstep::over_support(arms, n_arms, up, length(w0) < sc.P.sleep_angular)
+                            ? 1
+                            : 0;
     vout[i] = f4(self.v, 0.0f);
     wout[i] = f4(self.w, 0.0f);
     add_counter(&ctr[kCGroundContacts], ground_contacts);
@@ -1013,7 +1026,8 @@ struct SolveK {
       // manifolds (eq 99), in World<T>'s order; odd passes in reverse.
       // eq 113: each immovable manifold's record, 4 F4 (the environment side zero).
       auto imm_visit = [&](int m, auto&& solve) {
-        F4* st = d.conv_imm + (static_cast<long>(k) * (sc.ground_slots() / 8 + sc.n_sdf) + m) * 4;
+        F4* st = d.conv_imm != nullptr ? d.conv_imm + (static_cast<long>(k) * (sc.ground_slots() / 8 + sc.n_sdf) + m) * 4
+                                       : nullptr;
         if (visit_is_converged(st, self, env, sc.P, pass)) return;
         const Vec3<float> v0s = self.v, w0s = self.w;
         const unsigned shortened0 = counts.shortened_steps;
@@ -1065,7 +1079,8 @@ struct SolveK {
         const float split =
             jacobi ? jacobi_split(ro(d.dir_count + i), ro(d.dir_count + j), lower ? n : -n, sc.relaxation) : 1.0f;
         BodyView<float> A = pick(lower, me, other), B = pick(lower, other, me);
-        if (visit_is_converged(rec.conv, A, B, sc.P, pass)) return;  // eq 113
+        F4* conv = d.conv_of_pair(t);
+        if (visit_is_converged(conv, A, B, sc.P, pass)) return;  // eq 113
         const Vec3<float> va0 = A.v, wa0 = A.w, vb0 = B.v, wb0 = B.w;
         const Vec3<float> pa = lower ? p : pj, pb = lower ? pj : p;
         auto point = [&](int c, Vec3<float>& r1, Vec3<float>& r2, Vec3<float>& nc, float& penetration) {
@@ -1081,7 +1096,7 @@ struct SolveK {
         auto store = [&](int c, const ContactState<float>& cs) { rec.st[c].a = F4{cs.j_n, cs.j_t.x, cs.j_t.y, cs.j_t.z}; };
         SolveCounts here;
         solve_manifold<kBoxManifoldPoints>(A, B, point, load, store, sc.friction, sc.gravity, split, sc.P, here);
-        record_visit(rec.conv, va0, wa0, vb0, wb0, A, B, sc.P, here.shortened_steps);
+        record_visit(conv, va0, wa0, vb0, wb0, A, B, sc.P, here.shortened_steps);
         const Vec3<float> mv = pick(lower, A.v, B.v), mw = pick(lower, A.w, B.w);
         if (jacobi) {
           dv += mv - v0;
@@ -1230,13 +1245,14 @@ struct SolveEdgeK {
         rec.st[c].a = state;
         twin.st[c].a = state;
       };
-      if (visit_is_converged(rec.conv, A, B, sc.P, pass)) return;  // eq 113
+      F4* conv = d.conv_of_pair(t);
+      if (visit_is_converged(conv, A, B, sc.P, pass)) return;  // eq 113
       const Vec3<float> va0 = A.v, wa0 = A.w, vb0 = B.v, wb0 = B.w;
       SolveCounts counts;
       solve_manifold<kBoxManifoldPoints>(A, B, point, load, store, sc.friction, sc.gravity, sc.P, counts);
-      record_visit(rec.conv, va0, wa0, vb0, wb0, A, B, sc.P, counts.shortened_steps);
-      if (sc.P.converged_speed > 0.0f)
-        for (int q = 0; q < 4; ++q) twin.conv[q] = rec.conv[q];
+      record_visit(conv, va0, wa0, vb0, wb0, A, B, sc.P, counts.shortened_steps);
+      if (F4* twin_conv = d.conv_of_pair(ro(mate + t)); conv != nullptr && twin_conv != nullptr)
+        for (int q = 0; q < 4; ++q) twin_conv[q] = conv[q];
       vel[i] = f4(A.v, 0.0f);
       ang[i] = f4(A.w, 0.0f);
       vel[j] = f4(B.v, 0.0f);

@@ -459,7 +459,7 @@ TEST(SettleTest, Eq75RestingCancellation) {
 // box's bottom face (1-6 of its corners and edge midpoints) under a centre
 // shifted by up to 1.5 half-widths, seen along up or a tilted normal (the
 // arms then have components along n, which must not count); cases within
-// 1e-9 of the boundary are not drawn by this generator's continuous ranges.
+// 1e-9 of the boundary are discarded (the boundary is not over: below).
 TEST(SettleTest, Eq112OverSupport) {
   rc::check([] {
     const double hx = *rc::gen::inRange(10, 100) / 100.0, hz = *rc::gen::inRange(10, 100) / 100.0;
@@ -484,23 +484,35 @@ TEST(SettleTest, Eq112OverSupport) {
     for (const V& x : r) distinct = distinct && length(x - r[0]) < 1e-12;
     const bool oracle = !distinct && widest < M_PI - 1e-9;
     if (!distinct && std::abs(widest - M_PI) < 1e-9) RC_DISCARD("on the boundary");
-    RC_ASSERT(over_support(r.data(), static_cast<int>(r.size()), n) == oracle);
+    RC_ASSERT(over_support(r.data(), static_cast<int>(r.size()), n, false) == oracle);
+    RC_ASSERT(over_support(r.data(), static_cast<int>(r.size()), n, true) == oracle);
   });
-  // The boundary and degenerate cases, exactly.
+  // The boundary and degenerate cases, exactly: the boundary is over only
+  // when boundary_over (the engine: while the body is slow).
   const V up{0, 1, 0};
   const V seg[2] = {{0.5, -0.5, 0.5}, {-0.5, -0.5, -0.5}};
-  EXPECT_TRUE(over_support(seg, 2, up));         // the centre on the segment: boundary, over
-  EXPECT_FALSE(over_support(seg, 1, up));        // one point beside the centre
   const V below[1] = {{0, -0.5, 0}};
-  EXPECT_TRUE(over_support(below, 1, up));       // straight over a point
-  EXPECT_TRUE(over_support<double>(nullptr, 0, up));
+  const V tri[3] = {{0.5, -0.5, 0.5}, {-0.5, -0.5, -0.5}, {0.5, -0.5, -0.5}};
+  for (const bool bo : {false, true}) {
+    EXPECT_EQ(over_support(seg, 2, up, bo), bo);     // the centre on the segment (balanced on an edge)
+    EXPECT_EQ(over_support(below, 1, up, bo), bo);   // straight over a point (balanced on a corner)
+    EXPECT_EQ(over_support(tri, 3, up, bo), bo);     // the centre on the triangle's edge
+    EXPECT_FALSE(over_support(seg, 1, up, bo));      // one point beside the centre
+    const V tri_in[3] = {{0.5, -0.5, 0.6}, {-0.5, -0.5, -0.4}, {0.5, -0.5, -0.5}};
+    EXPECT_TRUE(over_support(tri_in, 3, up, bo));    // 0.07 inside that edge
+    const V tri_out[3] = {{0.5, -0.5, 0.4}, {-0.5, -0.5, -0.6}, {0.5, -0.5, -0.5}};
+    EXPECT_FALSE(over_support(tri_out, 3, up, bo));  // 0.07 outside it
+    const V around[4] = {{0, -0.5, 0}, {0.5, -0.5, 0.5}, {-0.5, -0.5, 0.5}, {0, -0.5, -0.5}};
+    EXPECT_TRUE(over_support(around, 4, up, bo));    // a point straight below, others around it
+    EXPECT_TRUE(over_support<double>(nullptr, 0, up, bo));
+  }
   const V line[2] = {{0.5, -0.5, 0.1}, {-0.5, -0.5, 0.1}};
-  EXPECT_FALSE(over_support(line, 2, up));       // an edge 0.1 beside the centre
+  EXPECT_FALSE(over_support(line, 2, up, true));     // an edge 0.1 beside the centre
   // More support contacts than it looks at: held from many sides, over.
   V many[kMaxSupportPoints];
   for (V& x : many) x = line[0];
-  EXPECT_FALSE(over_support(many, kMaxSupportPoints, up));
-  EXPECT_TRUE(over_support(many, kMaxSupportPoints + 1, up));
+  EXPECT_FALSE(over_support(many, kMaxSupportPoints, up, true));
+  EXPECT_TRUE(over_support(many, kMaxSupportPoints + 1, up, false));
 }
 
 // eq 112's holds: a touching contact exempts a body from eq 112 when its

@@ -334,7 +334,7 @@ Json f_over_support(In in, const std::string& p) {
     throw FormatError(p + ".r: expected 0 to 16 lever arms");
   std::vector<V> r;
   for (std::size_t k = 0; k < rs.size(); ++k) r.push_back(vec_at(Json{{"r", rs[k]}}, "r", p + ".r[" + std::to_string(k) + "]"));
-  return Json{{"over", over_support(r.data(), static_cast<int>(r.size()), vec_at(in, "n", p))}};
+  return Json{{"over", over_support(r.data(), static_cast<int>(r.size()), vec_at(in, "n", p), bool_at(in, "boundary_over", p))}};
 }
 // eq 112's holds: whether a touching contact exempts a body from eq 112.
 Json f_holds_off_support(In in, const std::string& p) {
@@ -517,8 +517,9 @@ const std::vector<Formula>& formulas() {
        f_cancel_resting},
       {"support_weight", {98}, "1 if penetration >= 0, 0 if penetration <= -width, else (penetration + width) / width", f_support_weight},
       {"over_support", {112},
-       "false iff some r[j] has every r[k] with cross(r[j], r[k]).n > 0, or = 0 and "
-       "dot(r[j], r[k]) - (r[j].n)(r[k].n) > 0; else true (0 arms: true)",
+       "true if strictly inside (no r[j] has s_jk = cross(r[j], r[k]).n >= 0 for every k, or <= 0 for every k, not all 0; "
+       "some s_jk != 0); false if strictly outside (some r[j] has every s_jk > 0, or = 0 and "
+       "dot(r[j], r[k]) - (r[j].n)(r[k].n) > 0); else (the boundary) boundary_over. 0 arms: true",
        f_over_support},
       {"holds_off_support", {112}, "n.y < support_normal_min and (immovable or n.y > -support_normal_min)",
        f_holds_off_support},
@@ -797,7 +798,8 @@ std::vector<Case> cases_for(const std::string& fn, Rng& rng) {
       const int count = 1 + k % 4;
       for (int c = 0; c < count; ++c)
         r.push_back(to_json(V{(c & 1 ? h.x : -h.x) + shift.x, -h.y, (c & 2 ? h.z : -h.z) + shift.z}));
-      in = {{"r", r}, {"n", k % 3 ? up : to_json(normalize(V{rng.q16(-0.3, 0.3), Q16::from_int(1), rng.q16(-0.3, 0.3)}))}};
+      in = {{"r", r}, {"n", k % 3 ? up : to_json(normalize(V{rng.q16(-0.3, 0.3), Q16::from_int(1), rng.q16(-0.3, 0.3)}))},
+            {"boundary_over", k % 2 == 0}};
     } else if (fn == "holds_off_support") {
       // A contact normal (towards the body) from any direction, from an awake or an immovable other side.
       in = {{"n", to_json(normalize(rng.vec(-1, 1)))}, {"immovable", k % 2 == 0},
@@ -1035,11 +1037,22 @@ std::vector<Case> cases_for(const std::string& fn, Rng& rng) {
     add({{"v0", z}, {"w0", z}, {"v", z}, {"w", z}, {"eps", 0}}, "eps 0: never converged", {"Edge"});
   } else if (fn == "over_support") {
     const Json a = Json::array({kOne / 2, -kOne / 2, kOne / 2}), b = Json::array({-kOne / 2, -kOne / 2, -kOne / 2});
-    add({{"r", Json::array({a, b})}, {"n", up}}, "the centre on the segment between two arms: over (boundary)", {"Edge"});
-    add({{"r", Json::array({a})}, {"n", up}}, "one arm beside the centre: not over", {"Edge"});
-    add({{"r", Json::array({Json::array({0, -kOne / 2, 0})})}, {"n", up}}, "one arm straight below the centre: over",
-        {"Edge"});
-    add({{"r", Json::array()}, {"n", up}}, "no arms: over (nothing to tip about)", {"Edge"});
+    const Json c = Json::array({kOne / 2, -kOne / 2, -kOne / 2});
+    for (const bool bo : {false, true}) {
+      const std::string on = bo ? "over (boundary, boundary_over)" : "not over (boundary)";
+      add({{"r", Json::array({a, b})}, {"n", up}, {"boundary_over", bo}}, "the centre on the segment between two arms: " + on,
+          {"Edge"});
+      add({{"r", Json::array({Json::array({0, -kOne / 2, 0})})}, {"n", up}, {"boundary_over", bo}},
+          "one arm straight below the centre: " + on, {"Edge"});
+      add({{"r", Json::array({a, b, c})}, {"n", up}, {"boundary_over", bo}},
+          "the centre on an edge of the triangle of three arms: " + on, {"Edge"});
+      add({{"r", Json::array({a})}, {"n", up}, {"boundary_over", bo}}, "one arm beside the centre: not over", {"Edge"});
+    }
+    add({{"r", Json::array({Json::array({0, -kOne / 2, 0}), a, Json::array({-kOne / 2, -kOne / 2, kOne / 2}),
+                            Json::array({0, -kOne / 2, -kOne / 2})})},
+         {"n", up}, {"boundary_over", false}},
+        "an arm straight below the centre, three around it: over", {"Edge"});
+    add({{"r", Json::array()}, {"n", up}, {"boundary_over", false}}, "no arms: over (nothing to tip about)", {"Edge"});
   } else if (fn == "cancel_resting_velocity") {
     add({{"v", Json::array({3, -kOne / 10, 0})}, {"v_support", zero}, {"n", up}, {"gap_speed", kOne / 20},
          {"rest_speed", to_json(P.rest_speed)}},

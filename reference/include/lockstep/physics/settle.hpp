@@ -94,18 +94,66 @@ LS_HD Vec3<T> cancel_resting_velocity(const Vec3<T>& v, const Vec3<T>& v_support
 }
 
 // eq 112 (Part 4): whether a body's centre of mass, seen along n (the
-// engine passes up, (0, 1, 0): gravity decides), lies over its support: in the convex hull (boundary included) of
-// its support contacts' points, given as lever arms r[k] = point - p (the
-// centre at the origin), k < count. In the plane normal to n the centre is
-// strictly outside the hull exactly when some r[j] has every r[k] at an
-// angle in [0, pi) from it: (r[j] x r[k]).n > 0, or = 0 with r[k] pointing
-// the same way (r[j].r[k] - (r[j].n)(r[k].n) > 0); r[j] with no in-plane
-// length never qualifies (the centre is over a contact point). O(count^2).
-// More than kMaxSupportPoints support contacts (count > kMaxSupportPoints,
-// only the first kMaxSupportPoints given) count as over: such a body is held
-// from many sides. A body held by a contact that holds_off_support (a
-// neighbour beside it, a sleeper above it) is not asked (World: narrow_phase).
+// engine passes up, (0, 1, 0): gravity decides), lies over its support, the
+// convex hull of its support contacts' points, given as lever arms
+// r[k] = point - p (the centre at the origin), k < count. With
+// s_jk = (r[j] x r[k]).n, in the plane normal to n:
+// - strictly inside (over): no r[j] has every s_jk >= 0 or every s_jk <= 0
+//   (not all 0: an r[j] with no in-plane length is no witness), and some
+//   s_jk != 0 (not all points on one line or one point through the centre);
+// - strictly outside (not over): some r[j] has every r[k] at an angle in
+//   [0, pi) from it: s_jk > 0, or = 0 with r[k] pointing the same way
+//   (r[j].r[k] - (r[j].n)(r[k].n) > 0); an r[j] with no in-plane length is no witness;
+// - else on the boundary (balanced on an edge or a corner, or the centre on
+//   an edge of the hull): over when `boundary_over`, which the engine sets
+//   while the body is slow (|w| < sleep_angular: a cube dropped on a corner
+//   that comes to rest balanced on an edge is turned flat by settling), not
+//   while it rolls over the edge: the boundary is a window of an ulp of the
+//   cross product that Q16 hits and double never does, and the righting
+//   torque (71) there kicked a box rolling over its edge at 0.47 rad/s back
+//   the way it came (AgreementProp seed 7049).
+// O(count^2) products, no division. More than kMaxSupportPoints support
+// contacts (count > kMaxSupportPoints, only the first kMaxSupportPoints
+// given) count as over: such a body is held from many sides; so do none
+// (count 0: nothing to tip about). A body held by a contact that
+// holds_off_support (a neighbour beside it, a sleeper above it) is not asked
+// (World: narrow_phase).
 constexpr int kMaxSupportPoints = 16;
+
+template <class T>
+LS_HD bool over_support(const Vec3<T>* r, int count, const Vec3<T>& n, bool boundary_over) {
+  if (count > kMaxSupportPoints || count == 0) return true;
+  bool inside = true;  // strictly
+  for (int j = 0; j < count && inside; ++j) {
+    bool left = true, right = true, length = false;  // every s_jk >= 0, every s_jk <= 0; not all 0
+    for (int k = 0; k < count && (left || right); ++k) {
+      const T side = dot(cross(r[j], r[k]), n);
+      left = left && !(side < T{});
+      right = right && !(side > T{});
+      length = length || side != T{};
+    }
+    if ((left || right) && length) inside = false;
+  }
+  if (inside) {  // no witness: strictly inside, unless every s_jk is 0
+    bool any = false;
+    for (int j = 0; j < count && !any; ++j)
+      for (int k = j + 1; k < count && !any; ++k) any = dot(cross(r[j], r[k]), n) != T{};
+    if (any) return true;
+  }
+  if (!boundary_over) return false;
+  for (int j = 0; j < count; ++j) {  // strictly outside?
+    bool witness = true;  // every point within [0, pi) of r[j]
+    const T rjn = dot(r[j], n);
+    for (int k = 0; k < count && witness; ++k) {
+      const T side = dot(cross(r[j], r[k]), n);
+      if (side > T{}) continue;
+      if (side < T{}) { witness = false; break; }
+      witness = dot(r[j], r[k]) - rjn * dot(r[k], n) > T{};
+    }
+    if (witness) return false;
+  }
+  return true;  // on the boundary
+}
 
 // eq 112: whether a contact touching a body (within slop) may hold it beyond
 // its support, so that eq 112 is not asked of it: its normal towards the body,
@@ -124,19 +172,26 @@ LS_HD bool holds_off_support(const Vec3<T>& n, bool immovable, const T& support_
 
 template <class T>
 LS_HD bool over_support(const Vec3<T>* r, int count, const Vec3<T>& n) {
-  if (count > kMaxSupportPoints) return true;
+  if (count > kMaxSupportPoints || count == 0) return true;
   for (int j = 0; j < count; ++j) {
-    bool witness = true;  // every point within [0, pi) of r[j]
-    const T rjn = dot(r[j], n);
-    for (int k = 0; k < count && witness; ++k) {
+    bool left = true, right = true, length = false;  // every s_jk >= 0, every s_jk <= 0; r[j] off the centre
+    for (int k = 0; k < count && (left || right); ++k) {
       const T side = dot(cross(r[j], r[k]), n);
-      if (side > T{}) continue;
-      if (side < T{}) { witness = false; break; }
-      witness = dot(r[j], r[k]) - rjn * dot(r[k], n) > T{};
+      left = left && !(side < T{});
+      right = right && !(side > T{});
+      length = length || side != T{};
     }
-    if (witness) return false;
+    // An r[j] whose s_jk are all 0 is no witness: it has no in-plane length
+    // (a point straight below the centre), or every arm is collinear with it
+    // through the centre, which the check below finds.
+    if ((left || right) && length) return false;
   }
-  return true;
+  // No witness: either strictly inside, or every arm is collinear with the
+  // centre (every s_jk = 0): on a line or a point, not over.
+  bool any = false;
+  for (int j = 0; j < count && !any; ++j)
+    for (int k = j + 1; k < count && !any; ++k) any = dot(cross(r[j], r[k]), n) != T{};
+  return any;
 }
 
 // eq 77 (4.6): a supported body slower than settle_speed loses a fraction of its velocity.
