@@ -177,11 +177,11 @@ void World<T>::narrow_phase() {
   };
   for (std::size_t ci = 0; ci < contacts_.size(); ++ci) {
     const Contact<T>& c = contacts_[ci];
-    if (c.penetration > -P_.slop) {  // eq 112's holds: b is immovable (ground, SDF, static, asleep) for a
-      const bool b_holds = c.b < 0 || !bodies_[static_cast<std::size_t>(c.b)].awake();
-      if (holds_off_support(c.n, b_holds, P_.support_normal_min)) loaded[static_cast<std::size_t>(c.a)] = 1;
-      if (c.b >= 0 && holds_off_support(-c.n, !bodies_[static_cast<std::size_t>(c.a)].awake(), P_.support_normal_min))
-        loaded[static_cast<std::size_t>(c.b)] = 1;
+    if (c.penetration > -P_.slop) {  // eq 112's holds; immovable: ground, SDF, static, asleep
+      const bool a_immovable = !bodies_[static_cast<std::size_t>(c.a)].awake();
+      const bool b_immovable = c.b < 0 || !bodies_[static_cast<std::size_t>(c.b)].awake();
+      if (holds_off_support(c.n, b_immovable, P_.support_normal_min)) loaded[static_cast<std::size_t>(c.a)] = 1;
+      if (c.b >= 0 && holds_off_support(-c.n, a_immovable, P_.support_normal_min)) loaded[static_cast<std::size_t>(c.b)] = 1;
     }
     if (!(c.penetration > -P_.support_fade)) continue;
     if (c.n.y >= P_.support_normal_min) add_support(c.a, ci, c.n, c.penetration);

@@ -123,23 +123,21 @@ constexpr int kMaxSupportPoints = 16;
 template <class T>
 LS_HD bool over_support(const Vec3<T>* r, int count, const Vec3<T>& n, bool boundary_over) {
   if (count > kMaxSupportPoints || count == 0) return true;
-  bool inside = true;  // strictly
+  // Strictly inside: no witness r[j], and some s_jk != 0. A row that stops
+  // early has met both signs, so `any` sees every row that could be all 0.
+  bool inside = true, any = false;
   for (int j = 0; j < count && inside; ++j) {
-    bool left = true, right = true, length = false;  // every s_jk >= 0, every s_jk <= 0; not all 0
+    bool left = true, right = true, nonzero = false;  // every s_jk >= 0, every s_jk <= 0; not all 0
     for (int k = 0; k < count && (left || right); ++k) {
       const T side = dot(cross(r[j], r[k]), n);
       left = left && !(side < T{});
       right = right && !(side > T{});
-      length = length || side != T{};
+      nonzero = nonzero || side != T{};
     }
-    if ((left || right) && length) inside = false;
+    if ((left || right) && nonzero) inside = false;
+    any = any || nonzero;
   }
-  if (inside) {  // no witness: strictly inside, unless every s_jk is 0
-    bool any = false;
-    for (int j = 0; j < count && !any; ++j)
-      for (int k = j + 1; k < count && !any; ++k) any = dot(cross(r[j], r[k]), n) != T{};
-    if (any) return true;
-  }
+  if (inside && any) return true;
   if (!boundary_over) return false;
   for (int j = 0; j < count; ++j) {  // strictly outside?
     bool witness = true;  // every point within [0, pi) of r[j]
@@ -168,30 +166,6 @@ template <class T>
 LS_HD bool holds_off_support(const Vec3<T>& n, bool immovable, const T& support_normal_min) {
   if (n.y >= support_normal_min) return false;
   return immovable || n.y > -support_normal_min;
-}
-
-template <class T>
-LS_HD bool over_support(const Vec3<T>* r, int count, const Vec3<T>& n) {
-  if (count > kMaxSupportPoints || count == 0) return true;
-  for (int j = 0; j < count; ++j) {
-    bool left = true, right = true, length = false;  // every s_jk >= 0, every s_jk <= 0; r[j] off the centre
-    for (int k = 0; k < count && (left || right); ++k) {
-      const T side = dot(cross(r[j], r[k]), n);
-      left = left && !(side < T{});
-      right = right && !(side > T{});
-      length = length || side != T{};
-    }
-    // An r[j] whose s_jk are all 0 is no witness: it has no in-plane length
-    // (a point straight below the centre), or every arm is collinear with it
-    // through the centre, which the check below finds.
-    if ((left || right) && length) return false;
-  }
-  // No witness: either strictly inside, or every arm is collinear with the
-  // centre (every s_jk = 0): on a line or a point, not over.
-  bool any = false;
-  for (int j = 0; j < count && !any; ++j)
-    for (int k = j + 1; k < count && !any; ++k) any = dot(cross(r[j], r[k]), n) != T{};
-  return any;
 }
 
 // eq 77 (4.6): a supported body slower than settle_speed loses a fraction of its velocity.
