@@ -795,7 +795,7 @@ struct ContactsK {
       ContactState<float> c = prepare_contact(self0, r1, B, zero, n, e_self, mu_self, e2, mu2, sc.restitution,
                                               sc.friction, sc.P, counts);
       const F4 cached = cached_ok ? ro(&prev.imm[prev_slot * stride + e].a) : F4{};
-      if (cached.x > 0.0f) warm_start_contact(self, r1, B, zero, n, c, cached.x);
+      if (cached.x > 0.0f) warm_start_contact(self, r1, B, zero, n, c, cached.x, sc.P);
       store_state(c, d.imm[k * stride + e].a, d.imm[k * stride + e].b);
     };
     if (sc.ground_on) {
@@ -901,7 +901,7 @@ struct ContactsK {
             if (ro(&prev.man[prev_t].feature[u]) == mf.feature[c]) { cached = ro(&prev.man[prev_t].st[u].a).x; break; }
           if (cached > 0.0f) {
             BodyView<float> A = pick(lower, self, other0), B = pick(lower, other0, self);
-            warm_start_contact(A, r1, B, r2, mf.n, cs, cached);
+            warm_start_contact(A, r1, B, r2, mf.n, cs, cached, sc.P);
             self.v = pick(lower, A.v, B.v);
             self.w = pick(lower, A.w, B.w);
           }
@@ -939,7 +939,7 @@ struct ContactsK {
       }
       if (cached.x > 0.0f) {
         BodyView<float> A = pick(lower, self, other0), B = pick(lower, other0, self);
-        warm_start_contact(A, r1, B, r2, pc.n, c, cached.x);
+        warm_start_contact(A, r1, B, r2, pc.n, c, cached.x, sc.P);
         self.v = pick(lower, A.v, B.v);
         self.w = pick(lower, A.w, B.w);
       }

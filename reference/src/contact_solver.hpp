@@ -68,7 +68,7 @@ void World<T>::solve_contacts() {
       if (it == warm_.end() || it->a != c.a || it->b != c.b || it->feature != c.feature) continue;
       BodyView<T> A = solver::view_of(bodies_, c.a);
       BodyView<T> B = solver::view_of(bodies_, c.b);
-      warm_start_contact(A, c.r1, B, c.r2, c.n, c.state, it->j_n);
+      warm_start_contact(A, c.r1, B, c.r2, c.n, c.state, it->j_n, P_);
       if (A.inv_mass > T{}) { Body<T>& b = bodies_[static_cast<std::size_t>(c.a)]; b.v = A.v; b.w = A.w; }
       if (B.inv_mass > T{}) { Body<T>& b = bodies_[static_cast<std::size_t>(c.b)]; b.v = B.v; b.w = B.w; }
       check_faults(c.a, "warm start impulse");

@@ -131,6 +131,14 @@ void check_plate_impact(const MonitoredRun& r) {
   EXPECT_LE(r.stats().e_last, r.stats().e0) << r.summary();
 }
 
+// A bouncing, spinning impact with nothing else acting: the energy check of
+// every frame is the criterion; at the end the plate has left the ground
+// with less energy than it came with.
+void check_spin_bounce(const MonitoredRun& r) {
+  EXPECT_LE(r.stats().e_last, r.stats().e0) << r.summary();
+  EXPECT_GT(r.monitor->state()[0].p[1], 1.0) << "the plate did not leave the ground\n" << r.summary();
+}
+
 struct CatalogueCase {
   const char* scene;
   bool mp;
@@ -149,6 +157,7 @@ const CatalogueCase kCases[] = {
     {"q16_edge", true, check_q16_edge},
     {"heavy_on_sleeper", true, check_heavy_on_sleeper},
     {"plate_impact", true, check_plate_impact},
+    {"spin_bounce", true, check_spin_bounce},
     {"crowd_cell", false, check_crowd_cell},
 };
 

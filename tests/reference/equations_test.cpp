@@ -189,6 +189,24 @@ TEST(ContactTest, Eq53ImpulseReflectsWithRestitution) {
   apply_impulse(a, V{}, g, V{}, n * j);
   EXPECT_DOUBLE_EQ(a.v.y, 1.0);  // -e * v
 }
+// eq 96: a contact's cached impulse is applied at the next frame's start,
+// unless the contact already separates faster than restitution_min_speed.
+TEST(ContactTest, Eq96WarmStartSkipsAContactMovingApart) {
+  const V n{0, 1, 0};
+  const V r1{0.5, -0.5, 0.5};
+  for (const double vy : {-1.0, 0.0, 0.25, P.restitution_min_speed, P.restitution_min_speed + 0.01, 3.0}) {
+    BodyView<double> a{V{0, vy, 0}, V{}, 1.0, identity(), V{6, 6, 6}};
+    BodyView<double> g{V{}, V{}, 0.0, identity(), V{}};
+    SolveCounts counts;
+    ContactState<double> c = prepare_contact(a, r1, g, V{}, n, 0.5, 0.5, 0.5, 0.5, true, true, P, counts);
+    EXPECT_DOUBLE_EQ(c.v_n0, vy);
+    warm_start_contact(a, r1, g, V{}, n, c, 0.2, P);
+    const bool applied = vy <= P.restitution_min_speed;
+    EXPECT_EQ(c.j_n, applied ? 0.2 : 0.0) << "v_n0 = " << vy;
+    EXPECT_DOUBLE_EQ(a.v.y, applied ? vy + 0.2 : vy) << "v_n0 = " << vy;
+    EXPECT_EQ(a.w == V{}, !applied) << "v_n0 = " << vy;  // the impulse acts off the centre
+  }
+}
 // eq 97: a speculative contact 0.005 m apart lets the bodies approach by the
 // gap and no further: approaching at 0.6 m/s (0.01 m per frame) is slowed to 0.3.
 TEST(ContactTest, Eq97SpeculativeContactClosesTheGapOnly) {

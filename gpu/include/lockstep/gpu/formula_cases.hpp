@@ -70,7 +70,7 @@ LS_HD inline void evaluate_formula_case(int kind, const Params<float>& P, const 
       const Vec3<float> r1 = v3(20), r2 = v3(23);
       SolveCounts counts;
       ContactState<float> c = prepare_contact(A, r1, B, r2, n, in[29], in[30], 0.3f, 0.6f, true, true, P, counts);
-      warm_start_contact(A, r1, B, r2, n, c, 0.01f);
+      warm_start_contact(A, r1, B, r2, n, c, 0.01f, P);
       for (int it = 0; it < 2; ++it) solve_contact(A, r1, B, r2, n, in[31], c, true, true, 1.0f, P, counts);
       put3(0, A.v); put3(3, A.w); put3(6, B.v); put3(9, B.w);
       out[12] = c.j_n;

@@ -94,13 +94,18 @@ LS_HD ContactState<T> prepare_contact(const BodyView<T>& A, const Vec3<T>& r1, c
 
 // Eq 96: the warm start of one contact from last frame's accumulated normal
 // impulse cached_j_n of the same contact (same bodies, same feature), applied
-// to A and B. Friction starts from zero: a warm-started friction impulse on a
-// resting manifold kept re-injecting spin about the normal that 4 iterations
-// did not remove.
+// to A and B, unless the contact is already separating faster than
+// restitution_min_speed (v_n0 > it, eq 76's threshold): the cache holds a
+// load that persists, and a contact moving apart that fast is not loaded; the
+// impulse it cached was last frame's impact, and struck again it added 13 J
+// to a spinning box deep in the ground that one pass then failed to take
+// back (docs/HARD_CASES.md, 2026-11-26). Friction starts from zero: a
+// warm-started friction impulse on a resting manifold kept re-injecting spin
+// about the normal that 4 iterations did not remove.
 template <class T>
 LS_HD void warm_start_contact(BodyView<T>& A, const Vec3<T>& r1, BodyView<T>& B, const Vec3<T>& r2, const Vec3<T>& n,
-                              ContactState<T>& c, const T& cached_j_n) {
-  if (!(c.k_n > T{})) return;
+                              ContactState<T>& c, const T& cached_j_n, const Params<T>& P) {
+  if (!(c.k_n > T{}) || c.v_n0 > P.restitution_min_speed) return;
   c.j_n = cached_j_n;
   apply_impulse(A, r1, B, r2, n * c.j_n);  // eq 87
 }
