@@ -64,6 +64,7 @@ class Pipeline final : public PipelineBase {
     be_.fill_int(wake_flag_.data(), 0, n + 1);
     support_idx_.resize(n + 1);
     over_support_.resize(n + 1);
+    for (auto& c : over_chain_) c.resize(n + 1);
     support_n_.resize(n + 1);
     for (auto& b : settle_) b.resize(n + 1);
     p_tmp_.resize(n + 1);
@@ -277,6 +278,7 @@ class Pipeline final : public PipelineBase {
   Buf<F4> sdf_c0_, sdf_c1_, support_n_;
   Buf<int> support_idx_;
   Buf<int> over_support_;  // eq 112, per body (written by ContactsK for the active ones)
+  Buf<int> over_chain_[2];  // eq 112's chain: its sweeps, per body
   Buf<F4> settle_[2];
   Buf<F4> p_tmp_, q_tmp_;
   Buf<int> keep_, keep_scan_;
@@ -489,6 +491,16 @@ void Pipeline<B>::step() {
     ck.over_support = over_support_.data();
     be_.for_n(n_active, ck);
   }
+  // eq 112's chain: a body riding on a body that tips tips too (sweeps).
+  const int* over = over_support_.data();
+  if (oriented_ && n_active > 0) {
+    be_.for_n(n_active, TipChainK{active, body_, support_idx_.data(), over, over, over_chain_[0].data(), nullptr});
+    const int r = sweep_until_fixed(n_active + 2, [&](int in, int out, int* changed) {
+      be_.for_n(n_active, TipChainK{active, body_, support_idx_.data(), over, over_chain_[in].data(),
+                                    over_chain_[out].data(), changed});
+    });
+    over = over_chain_[r].data();
+  }
 
   // 5: the solver's iterations alternate between buffers 1 and 2.
   be_.mark(kStageSolve);
@@ -540,7 +552,7 @@ void Pipeline<B>::step() {
   // 6: settling sweeps but the last (which runs with the correction).
   be_.mark(kStageSettle);
   SettleSweep sweep{support_idx_.data(), support_n_.data(), vel_[last].data(), vel_[last].data(), oriented_};
-  if (oriented_) sweep.over = over_support_.data();
+  if (oriented_) sweep.over = over;
   if (fx_.settling && n_active > 0) {
     const int batch = std::max(1, opt_.settle_batch);
     for (int s = 0;;) {  // until every body's settled velocity is final
@@ -603,7 +615,7 @@ void Pipeline<B>::step() {
                     support_n_.data(), frame_, keep_.data(), scal_.data() + 1, ctr_.data()};
     const bool eq109 = oriented_ && fx_.sleep;
     cs.ready = eq109 ? ready_.data() : nullptr;
-    if (oriented_) cs.over = over_support_.data();  // eq 112: one not over its support is neither slowed nor put to sleep
+    if (oriented_) cs.over = over;  // eq 112: one not over its support is neither slowed nor put to sleep
     be_.for_n(n_active, cs);
     if (eq109) {  // eq 109: the ready bodies fall asleep bottom-up (sweeps)
       const PairManifold* pairs = contacts && n_awake > 0 ? man : nullptr;

@@ -2,6 +2,7 @@
 // volumes (eqs 32-37, 93) and other bodies (eqs 100-106, or the source's
 // eqs 38-43, 85), and waking (eq 81).
 #pragma once
+#include <algorithm>
 #include <vector>
 
 #include "lockstep/physics/box_box.hpp"
@@ -193,6 +194,24 @@ void World<T>::narrow_phase() {
     over_support_[i] = support_[i] < 0 || loaded[i] != 0 ||
                        over_support(support_arms_[i].data(), n_arms[i], Vec3<T>{T{}, Num<T>::from_int(1), T{}},
                                     length(bodies_[i].w) < P_.sleep_angular);
+  }
+  if (scene_.pair_contacts != PairModel::kOrientedBox) return;
+  // eq 112's chain, in stage 6's order: a body riding on a body that tips
+  // tips too.
+  chain_.clear();
+  for (std::size_t i = 0; i < bodies_.size(); ++i)
+    if (bodies_[i].awake() && support_[i] >= 0) chain_.push_back(static_cast<int>(i));
+  std::sort(chain_.begin(), chain_.end(), [&](int a, int b) {
+    return settles_before(bodies_[static_cast<std::size_t>(a)].p.y, a, bodies_[static_cast<std::size_t>(b)].p.y, b);
+  });
+  for (const int idx : chain_) {
+    const auto i = static_cast<std::size_t>(idx);
+    const Contact<T>& c = contacts_[static_cast<std::size_t>(support_[i])];  // the first support
+    const int s = c.a == idx ? c.b : c.a;
+    if (s < 0 || !bodies_[static_cast<std::size_t>(s)].awake()) continue;
+    const auto si = static_cast<std::size_t>(s);
+    const bool before = settles_before(bodies_[si].p.y, s, bodies_[i].p.y, idx);
+    over_support_[i] = over_with_support(over_support_[i] != 0, before, over_support_[si] != 0) ? 1 : 0;
   }
 }
 

@@ -131,8 +131,24 @@ TEST(GpuHost, StacksMatchWorldFloatBitForBit) {
     b.position.z = 0.03 * std::cos(3.0 * a);
     b.orientation = {std::cos(a / 2.0), tilt * std::cos(a), std::sin(a / 2.0), tilt * std::sin(a)};
   }
-  for (const Scene& s : {tower(20, 0.0), tower(10, 0.1), scene("stack5", model), heavy_on_light, twisted}) {
-    if (s.name == twisted.name && model != PairModel::kOrientedBox) continue;
+  // The oriented model: a unit cube 5 mm over the edge of a 2 m box with a
+  // second cube on it tips off with its load (eq 112's chain: the load rides
+  // on a body that tips, so neither is settled nor put to sleep).
+  Scene loaded_overhang;
+  loaded_overhang.pair_contacts = model;
+  loaded_overhang.name = "loaded_overhang";
+  loaded_overhang.frames = 400;
+  loaded_overhang.effects.sdf = false;
+  BodyDesc base, over, load;
+  base.half_extents = {1.0, 1.0, 1.0};
+  base.mass = 20.0;
+  base.position = {0.0, 1.0, 0.0};
+  over.position = {1.005, 2.5, 0.0};
+  load.position = {1.005, 3.5, 0.0};
+  loaded_overhang.bodies = {base, over, load};
+  for (const Scene& s :
+       {tower(20, 0.0), tower(10, 0.1), scene("stack5", model), heavy_on_light, twisted, loaded_overhang}) {
+    if ((s.name == twisted.name || s.name == loaded_overhang.name) && model != PairModel::kOrientedBox) continue;
     SCOPED_TRACE(s.name);
     const SideBySide r = expect_world_float_bits(s);
     EXPECT_EQ(r.gpu.normal_impulses, r.world.normal_impulses);

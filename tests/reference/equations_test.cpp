@@ -564,6 +564,20 @@ void expect_visit_converged() {
     EXPECT_TRUE(visit_converged(a, a, a + d, a - d, eps)) << k;
   }
 }
+// eq 112's chain: stage 6's order is ascending (y, index); a body over its
+// support still tips when its support settles before it and tips.
+TEST(SettleTest, Eq112ChainRidesOnATippingSupport) {
+  EXPECT_TRUE(settles_before(1.0, 5, 2.0, 3));
+  EXPECT_FALSE(settles_before(2.0, 3, 1.0, 5));
+  EXPECT_TRUE(settles_before(1.0, 3, 1.0, 5));  // a tie: the lower index first
+  EXPECT_FALSE(settles_before(1.0, 5, 1.0, 3));
+  EXPECT_FALSE(settles_before(1.0, 3, 1.0, 3));
+  EXPECT_TRUE(over_with_support(true, true, true));     // over, on a support that is over
+  EXPECT_FALSE(over_with_support(true, true, false));   // over, on a support before it that tips: it tips
+  EXPECT_TRUE(over_with_support(true, false, false));   // a support after it in the order is not followed
+  EXPECT_FALSE(over_with_support(false, true, true));   // not over by itself
+  EXPECT_FALSE(over_with_support(false, false, false));
+}
 TEST(ContactTest, Eq113VisitConverged) {
   expect_visit_converged<Q16>();
   expect_visit_converged<float>();

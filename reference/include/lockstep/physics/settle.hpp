@@ -168,6 +168,24 @@ LS_HD bool holds_off_support(const Vec3<T>& n, bool immovable, const T& support_
   return immovable || n.y > -support_normal_min;
 }
 
+// eq 112 (the chain): whether body i (height yi) settles before body s
+// (height ys): stage 6 visits supported bodies in ascending (y, index) order.
+template <class T>
+LS_HD bool settles_before(const T& ys, int s, const T& yi, int i) {
+  return ys < yi || (ys == yi && s < i);
+}
+
+// eq 112 (the chain): a body over its support by itself (`over`) still tips
+// when its first support is an awake body that settles before it
+// (`support_before`, settles_before) and tips (`support_over` false): it
+// rides on that body, and settling it (75, 77) or letting it sleep would
+// hold the two back (a unit cube 5 mm over an edge with a second cube on it:
+// the load, settled towards the lower cube's centre velocity, dragged the
+// pair's turn; 6 cm in 10 s, still tipping at frame 600).
+LS_HD inline bool over_with_support(bool over, bool support_before, bool support_over) {
+  return over && !(support_before && !support_over);
+}
+
 // eq 77 (4.6): a supported body slower than settle_speed loses a fraction of its velocity.
 template <class T>
 LS_HD Vec3<T> settle_linear(const Vec3<T>& v, const T& speed, const Params<T>& P) {
