@@ -55,6 +55,7 @@ void World<T>::solve_contacts() {
     material(c.b, e2, mu2);
     SolveCounts counts;
     c.state = prepare_contact(A, c.r1, B, c.r2, c.n, e1, mu1, e2, mu2, fx.restitution, fx.friction, P_, counts);
+    c.row = normal_row(A, c.r1, B, c.r2, c.n);  // eq 114
     tally(counts);
     check_faults(c.a, "contact preparation");
   }
@@ -148,7 +149,9 @@ void World<T>::solve_contacts() {
         };
         auto load = [&](int k) { return contacts_[s + static_cast<std::size_t>(k)].state; };
         auto store = [&](int k, const ContactState<T>& st) { contacts_[s + static_cast<std::size_t>(k)].state = st; };
-        solve_manifold<solver::kManifoldPoints>(A, B, point, load, store, fx.friction, fx.gravity, P_, counts);
+        auto row = [&](int k) -> const NormalRow<T>& { return contacts_[s + static_cast<std::size_t>(k)].row; };
+        solve_manifold_rows<solver::kManifoldPoints>(A, B, point, row, load, store, fx.friction, fx.gravity, one, P_,
+                                                     counts);
       } else {
         Contact<T>& c = contacts_[s];
         solve_contact(A, c.r1, B, c.r2, c.n, c.penetration, c.state, fx.friction, fx.gravity, one, P_, counts);

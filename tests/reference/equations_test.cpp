@@ -564,6 +564,33 @@ void expect_visit_converged() {
     EXPECT_TRUE(visit_converged(a, a, a + d, a - d, eps)) << k;
   }
 }
+// eq 114: the normal row gives (48)-(49) along n and (87) for J = n j, for
+// tilted boxes of any inertia (double: equal to rounding).
+RC_GTEST_PROP(ContactTest, Eq114NormalRowIsTheRelativeVelocityAlongN, ()) {
+  auto num = [](double lo, double hi) {
+    return lo + (hi - lo) * *rc::gen::inRange(0, 1 << 20) / static_cast<double>(1 << 20);
+  };
+  auto vec = [&](double lo, double hi) { return V{num(lo, hi), num(lo, hi), num(lo, hi)}; };
+  auto side = [&](bool movable) {
+    const V axis = vec(-1, 1);
+    const double len = length(axis);
+    const Q q = len > 1e-3 ? axis_angle(axis * (1 / len), num(0, 3)) : Q{1, 0, 0, 0};
+    return movable ? BodyView<double>{vec(-3, 3), vec(-5, 5), 1 / num(0.2, 5), rotation_matrix(q), vec(0.5, 20)}
+                   : immovable_view<double>();
+  };
+  const BodyView<double> A = side(true), B = side(*rc::gen::arbitrary<bool>());
+  const V r1 = vec(-1, 1), r2 = vec(-1, 1), n = normalize(vec(-1, 1) + V{0, 2, 0});
+  const NormalRow<double> row = normal_row(A, r1, B, r2, n);
+  RC_ASSERT(std::fabs(normal_velocity(A, B, row, n) - dot(relative_velocity(A, r1, B, r2), n)) < 1e-12);
+  const double j = num(-2, 2);
+  const ImpulseDelta<double> got = normal_delta(A, B, row, n, j), want = impulse_delta(A, r1, B, r2, n * j);
+  for (int k = 0; k < 3; ++k) {
+    RC_ASSERT(std::fabs(got.va[k] - want.va[k]) < 1e-12);
+    RC_ASSERT(std::fabs(got.wa[k] - want.wa[k]) < 1e-12);
+    RC_ASSERT(std::fabs(got.vb[k] - want.vb[k]) < 1e-12);
+    RC_ASSERT(std::fabs(got.wb[k] - want.wb[k]) < 1e-12);
+  }
+}
 // eq 112's chain: stage 6's order is ascending (y, index); a body over its
 // support still tips when its support settles before it and tips.
 TEST(SettleTest, Eq112ChainRidesOnATippingSupport) {

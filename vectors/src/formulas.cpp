@@ -341,6 +341,15 @@ Json f_holds_off_support(In in, const std::string& p) {
   return Json{{"holds", holds_off_support(vec_at(in, "n", p), bool_at(in, "immovable", p),
                                           q16_at(in, "support_normal_min", p))}};
 }
+// eq 112's chain: stage 6's order, and whether a body riding on its support stays over.
+Json f_settles_before(In in, const std::string& p) {
+  return Json{{"before", settles_before(q16_at(in, "ys", p), static_cast<int>(int_at(in, "s", p)), q16_at(in, "yi", p),
+                                        static_cast<int>(int_at(in, "i", p)))}};
+}
+Json f_over_with_support(In in, const std::string& p) {
+  return Json{{"over", over_with_support(bool_at(in, "over", p), bool_at(in, "support_before", p),
+                                         bool_at(in, "support_over", p))}};
+}
 // eq 113: whether one side of a solver visit is converged.
 Json f_visit_converged(In in, const std::string& p) {
   return Json{{"converged", visit_converged(vec_at(in, "v0", p), vec_at(in, "w0", p), vec_at(in, "v", p),
@@ -523,6 +532,10 @@ const std::vector<Formula>& formulas() {
        f_over_support},
       {"holds_off_support", {112}, "n.y < support_normal_min and (immovable or n.y > -support_normal_min)",
        f_holds_off_support},
+      {"settles_before", {112}, "ys < yi or (ys == yi and s < i): body s settles before body i (stage 6's order)",
+       f_settles_before},
+      {"over_with_support", {112}, "over and not (support_before and not support_over): a body riding on a body that tips tips",
+       f_over_with_support},
       {"settle_linear", {77}, "v * settle_factor if speed < settle_speed, else v", f_settle_linear},
       {"visit_converged", {113}, "true iff |v_k - v0_k| < eps and |w_k - w0_k| < eps for every component k",
        f_visit_converged},
@@ -804,6 +817,14 @@ std::vector<Case> cases_for(const std::string& fn, Rng& rng) {
       // A contact normal (towards the body) from any direction, from an awake or an immovable other side.
       in = {{"n", to_json(normalize(rng.vec(-1, 1)))}, {"immovable", k % 2 == 0},
             {"support_normal_min", to_json(P.support_normal_min)}};
+    } else if (fn == "settles_before") {
+      // Two heights, often equal (the index decides), and two indices.
+      const Q16 ys = rng.q16(-2, 2);
+      in = {{"ys", to_json(ys)}, {"s", k % 5}, {"yi", to_json(k % 3 == 0 ? ys : rng.q16(-2, 2))}, {"i", (k / 5) % 5}};
+    } else if (fn == "over_with_support") {
+      in = {{"over", (k & 1) != 0}, {"support_before", (k & 2) != 0}, {"support_over", (k & 4) != 0}};
+      add(in, "", {"Sweep"});
+      continue;
     } else if (fn == "visit_converged") {
       // A side's velocities before and after: each component within about
       // converged_speed of its old value, some beyond it.

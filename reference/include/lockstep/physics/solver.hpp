@@ -92,6 +92,36 @@ LS_HD ContactState<T> prepare_contact(const BodyView<T>& A, const Vec3<T>& r1, c
   return c;
 }
 
+// eq 114: the normal row of a contact point (A at r1, B at r2, n from B to
+// A): the moments r1 x n and r2 x n and their images under the sides' world
+// inverse inertia (eq 90), I1^-1 (r1 x n) and I2^-1 (r2 x n). They depend on
+// the point and on the sides' rotations and inertia, which the solve does not
+// change: World<T> forms them once per frame and every pass reads them; the
+// GPU engine forms them where it needs them (the same values).
+template <class T>
+struct NormalRow {
+  Vec3<T> rn1, rn2;  // r1 x n, r2 x n (m)
+  Vec3<T> an1, an2;  // I1^-1 (r1 x n), I2^-1 (r2 x n) (1/(kg m))
+};
+template <class T>
+LS_HD_INLINE NormalRow<T> normal_row(const BodyView<T>& A, const Vec3<T>& r1, const BodyView<T>& B, const Vec3<T>& r2,
+                                     const Vec3<T>& n) {
+  const Vec3<T> rn1 = cross(r1, n), rn2 = cross(r2, n);  // eq 51
+  return {rn1, rn2, apply_inverse_inertia(A.R, A.inv_inertia, rn1), apply_inverse_inertia(B.R, B.inv_inertia, rn2)};
+}
+// eqs 48-49 along n through the row (eq 114): v_n = (v1 - v2).n + w1.(r1 x n) - w2.(r2 x n).
+template <class T>
+LS_HD_INLINE T normal_velocity(const BodyView<T>& A, const BodyView<T>& B, const NormalRow<T>& row, const Vec3<T>& n) {
+  return dot(A.v - B.v, n) + dot(A.w, row.rn1) - dot(B.w, row.rn2);
+}
+// Eq 87's velocity changes for the impulse J = n j through the row (eq 114):
+// n (j m1^-1), I1^-1 (r1 x n) j on A and the same of B (taken off B).
+template <class T>
+LS_HD_INLINE ImpulseDelta<T> normal_delta(const BodyView<T>& A, const BodyView<T>& B, const NormalRow<T>& row,
+                                          const Vec3<T>& n, const T& j) {
+  return {n * (j * A.inv_mass), row.an1 * j, n * (j * B.inv_mass), row.an2 * j};
+}
+
 // Eq 96: the warm start of one contact from last frame's accumulated normal
 // impulse cached_j_n of the same contact (same bodies, same feature), applied
 // to A and B, unless the contact is already separating faster than
@@ -129,13 +159,14 @@ LS_HD void solve_contact(BodyView<T>& A, const Vec3<T>& r1, BodyView<T>& B, cons
                          const Params<T>& P, SolveCounts& counts) {
   if (!(c.k_n > T{})) return;  // both sides immovable
   ++counts.solver_contacts;
-  const T v_n = dot(relative_velocity(A, r1, B, r2), n);  // eqs 48-49
+  const NormalRow<T> row = normal_row(A, r1, B, r2, n);  // eq 114, as a manifold's point
+  const T v_n = normal_velocity(A, B, row, n);            // eqs 48-49
   // Only approaching contacts bounce (the fix of 3.1): the target -e v_n0 uses v_n0 <= 0.
   const T target = contact_target_velocity(penetration, c.e, Num<T>::min(c.v_n0, T{}), gravity_pressing(B, n, gravity, P),
                                            P.dt, P.inv_dt);  // eq 97
   const T dj = accumulate_normal_impulse(c.j_n, v_n, target, c.k_n * k_scale);  // eqs 53, 94
   if (dj != T{}) {
-    apply_impulse(A, r1, B, r2, n * dj);  // eq 87
+    apply_delta(A, B, normal_delta(A, B, row, n, dj));  // eqs 87, 114
     ++counts.normal_impulses;
   }
   // Friction (eqs 56-62, 88, 95); also re-clamps a friction impulse left
@@ -150,6 +181,46 @@ LS_HD void solve_contact(BodyView<T>& A, const Vec3<T>& r1, BodyView<T>& B, cons
       ++counts.friction_steps;
     }
   }
+}
+
+// Eq 99's step length for a manifold's normal proposals dj_k (eq 114's rows):
+// with R = max_k |dj_k| and w_k = dj_k / R, a = sum_k w_k res_k (res_k =
+// target_k - v_n,k) and b = sum_k w_k (n_k . dv_k), dv_k the velocity change
+// at point k that all the proposals cause together (the normal velocity of
+// the sides at rest after them). `deltas` and `formed` as manifold_step's.
+template <int N, class T, class Point, class Row>
+LS_HD_INLINE T normal_manifold_step(const BodyView<T>& A, const BodyView<T>& B, const Point& point, const Row& row,
+                                    const T* dj, const T* res, int end, ImpulseDelta<T>* deltas, bool* formed) {
+  BodyView<T> Z = A, Zb = B;  // the sides at rest: they gather the proposals' velocity change
+  Z.v = Z.w = Zb.v = Zb.w = Vec3<T>{};
+  T reach{};
+#if defined(__CUDA_ARCH__)
+#pragma unroll 1
+#endif
+  for (int k = 0; k < end; ++k) {
+    if (formed != nullptr) formed[k] = false;
+    Vec3<T> r1, r2, n;
+    T penetration;
+    if (dj[k] == T{} || !point(k, r1, r2, n, penetration)) continue;
+    const ImpulseDelta<T> dl = normal_delta(Z, Zb, row(k), n, dj[k]);
+    apply_delta(Z, Zb, dl);
+    if (deltas != nullptr) { deltas[k] = dl; formed[k] = true; }
+    reach = Num<T>::max(reach, Num<T>::abs(dj[k]));
+  }
+  if (!(reach > T{})) return Num<T>::from_int(1);
+  T a{}, b{};
+#if defined(__CUDA_ARCH__)
+#pragma unroll 1
+#endif
+  for (int k = 0; k < end; ++k) {
+    Vec3<T> r1, r2, n;
+    T penetration;
+    if (dj[k] == T{} || !point(k, r1, r2, n, penetration)) continue;
+    const T w = dj[k] / reach;  // in [-1, 1]
+    a += w * res[k];
+    b += w * normal_velocity(Z, Zb, row(k), n);
+  }
+  return manifold_step_length(a, b);
 }
 
 // Host builds keep what a manifold visit has formed once and would form again:
@@ -239,17 +310,20 @@ LS_HD_INLINE T manifold_step(const BodyView<T>& A, const BodyView<T>& B, const P
 // energy; then all are applied. Friction step: the same, from the velocities
 // after the normal step (eqs 56-62, 88, 95).
 // `point(k, r1, r2, n, penetration)` gives point k (k = 0..N-1; false: not a
-// contact); `load(k)` and `store(k, state)` read and write its solver state.
+// contact), `row(k)` its normal row (eq 114: normal_row of the visit's two
+// sides; the normal step reads the point's velocity along n and applies its
+// impulse through it); `load(k)` and `store(k, state)` read and write its
+// solver state.
 // The visit is skipped when the first point's k_n is 0 (both sides
 // immovable).
 // `k_scale` multiplies every point's effective masses on top of eq 99's
 // split: 1 is World<T>'s sequential visit; the GPU engine's Jacobi visits of
 // a pair of active bodies pass their mass splitting (docs/GPU.md), as
 // solve_contact's k_scale.
-template <int N, class T, class Point, class Load, class Store>
-LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point_at, const Load& load_at,
-                          const Store& store_at, bool friction, bool gravity, const T& k_scale, const Params<T>& P,
-                          SolveCounts& counts) {
+template <int N, class T, class Point, class Row, class Load, class Store>
+LS_HD void solve_manifold_rows(BodyView<T>& A, BodyView<T>& B, const Point& point_at, const Row& row_at,
+                               const Load& load_at, const Store& store_at, bool friction, bool gravity,
+                               const T& k_scale, const Params<T>& P, SolveCounts& counts) {
   const T one = Num<T>::from_int(1);
   const T half = Num<T>::from_double(0.5);  // eq 113: a step shortened below it is partial progress
   constexpr int M = kManifoldCache ? N : 1;
@@ -257,6 +331,7 @@ LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point_at,
   Vec3<T> pr1[M], pr2[M], pn[M];
   T ppen[M];
   ContactState<T> pst[M];
+  NormalRow<T> prow[M];
   bool pok[M];
   auto point = [&](int k, Vec3<T>& r1, Vec3<T>& r2, Vec3<T>& n, T& penetration) {
     if constexpr (kManifoldCache) {
@@ -266,6 +341,10 @@ LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point_at,
     } else {
       return point_at(k, r1, r2, n, penetration);
     }
+  };
+  auto row = [&](int k) -> std::conditional_t<kManifoldCache, const NormalRow<T>&, NormalRow<T>> {
+    if constexpr (kManifoldCache) return prow[k];
+    else return row_at(k);
   };
   auto load = [&](int k) -> std::conditional_t<kManifoldCache, const ContactState<T>&, ContactState<T>> {
     if constexpr (kManifoldCache) return pst[k];
@@ -288,7 +367,7 @@ LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point_at,
       const bool ok = point_at(k, r1, r2, n, penetration);
       if constexpr (kManifoldCache) {
         pok[k] = ok;
-        if (ok) pr1[k] = r1, pr2[k] = r2, pn[k] = n, ppen[k] = penetration, pst[k] = load_at(k);
+        if (ok) pr1[k] = r1, pr2[k] = r2, pn[k] = n, ppen[k] = penetration, pst[k] = load_at(k), prow[k] = row_at(k);
       }
       if (!ok) continue;
       const T k_n = load(k).k_n;
@@ -312,7 +391,7 @@ LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point_at,
     if (!point(k, r1, r2, n, penetration)) continue;
     const ContactState<T>& c = load(k);
     ++counts.solver_contacts;
-    const T v_n = dot(relative_velocity(A, r1, B, r2), n);  // eqs 48-49, at the visit's start
+    const T v_n = normal_velocity(A, B, row(k), n);  // eqs 48-49 (eq 114), at the visit's start
     // Only approaching contacts bounce (the fix of 3.1): the target -e v_n0 uses v_n0 <= 0.
     const T target = contact_target_velocity(penetration, c.e, Num<T>::min(c.v_n0, T{}),
                                              gravity_pressing(B, n, gravity, P), P.dt, P.inv_dt);  // eq 97
@@ -327,11 +406,8 @@ LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point_at,
   Vec3<T> impulse[M];
   bool cached = false;
   if (count > 1) {
-    const T alpha = manifold_step<N>(
-        A, B, point, [&](int k, const Vec3<T>& n) { return n * dj[k]; },
-        [&](int k, const Vec3<T>&, const Vec3<T>&, const Vec3<T>& n) { return n * res[k]; },  // eq 99
-        kManifoldCache ? delta : nullptr, kManifoldCache ? formed : nullptr, kManifoldCache ? impulse : nullptr,
-        end);
+    const T alpha = normal_manifold_step<N>(A, B, point, row, dj, res, end, kManifoldCache ? delta : nullptr,
+                                            kManifoldCache ? formed : nullptr);  // eqs 99, 114
     if (alpha < one) {
       if (alpha < half) ++counts.shortened_steps;  // eq 113: less than half the proposals' change
       for (int k = 0; k < end; ++k) dj[k] = dj[k] * alpha;
@@ -349,8 +425,8 @@ LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point_at,
     ContactState<T> c = load(k);
     c.j_n += dj[k];  // eq 94: stays >= 0, alpha <= 1
     store(k, c);
-    if (cached && formed[k]) apply_delta(A, B, delta[k]);  // eq 87, as formed by manifold_step
-    else apply_impulse(A, r1, B, r2, n * dj[k]);            // eq 87
+    if (cached && formed[k]) apply_delta(A, B, delta[k]);  // eq 87, as formed by normal_manifold_step
+    else apply_delta(A, B, normal_delta(A, B, row(k), n, dj[k]));  // eqs 87, 114
     ++counts.normal_impulses;
   }
   if (!friction) return;
@@ -432,6 +508,23 @@ LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point_at,
     else apply_impulse(A, r1, B, r2, dJ[k]);                // eqs 61-62, 87
     ++counts.friction_steps;
   }
+}
+
+// A manifold visit whose rows (eq 114) are formed on the spot from the
+// visit's two sides (the GPU engine's visits; World<T> passes the rows it
+// formed once per frame from the same sides: the same values).
+template <int N, class T, class Point, class Load, class Store>
+LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point, const Load& load, const Store& store,
+                          bool friction, bool gravity, const T& k_scale, const Params<T>& P, SolveCounts& counts) {
+  const BodyView<T>& A0 = A;  // only its mass, rotation and inertia are read, which the visit does not change
+  const BodyView<T>& B0 = B;
+  auto row = [&](int k) {
+    Vec3<T> r1, r2, n;
+    T penetration;
+    point(k, r1, r2, n, penetration);
+    return normal_row(A0, r1, B0, r2, n);
+  };
+  solve_manifold_rows<N>(A, B, point, row, load, store, friction, gravity, k_scale, P, counts);
 }
 
 // The sequential visit (k_scale 1): World<T>'s, and the GPU engine's visits
