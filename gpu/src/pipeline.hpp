@@ -615,7 +615,7 @@ void Pipeline<B>::step() {
                     support_n_.data(), frame_, keep_.data(), scal_.data() + 1, ctr_.data()};
     const bool eq109 = oriented_ && fx_.sleep;
     cs.ready = eq109 ? ready_.data() : nullptr;
-    if (oriented_) cs.over = over;  // eq 112: one not over its support is neither slowed nor put to sleep
+    if (oriented_) cs.over = over;  // eq 112: one not over its support is not slowed (it sleeps on its own counter only)
     be_.for_n(n_active, cs);
     if (eq109) {  // eq 109: the ready bodies fall asleep bottom-up (sweeps)
       const PairManifold* pairs = contacts && n_awake > 0 ? man : nullptr;

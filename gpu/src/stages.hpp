@@ -1496,10 +1496,10 @@ struct CommitSleepK {
       int counter = b.sleep_counter[i];
       const bool supported = support_idx[i] != kNoSupport;
       const Vec3<float> up = supported ? xyz(support_n[i]) : Vec3<float>{0.0f, Num<float>::from_int(1), 0.0f};
-      const bool is_over = over == nullptr || over[i] != 0;  // eq 112: one not over its support is tipping
+      const bool is_over = over == nullptr || over[i] != 0;  // eq 112: one not over its support may be tipping
       asleep = update_sleep(v, w, counter, supported, is_over, !sc.oriented, R, up, length(xyz(b.half[i])), sc.P);
       b.sleep_counter[i] = counter;
-      if (ready != nullptr) ready[k] = is_over && counter >= sc.P.sleep_frames ? 1 : 0;
+      if (ready != nullptr) ready[k] = counter >= sc.P.sleep_frames ? 1 : 0;
       b.vel[i] = f4(v, 0.0f);
       b.ang[i] = f4(w, 0.0f);
       if (asleep) {

@@ -92,13 +92,13 @@ void World<T>::update_sleep() {
     ++counters_.sleep_updates;
     const bool supported = support_[i] >= 0;
     const Vec3<T> up = supported ? support_normal(i) : Vec3<T>{T{}, Num<T>::from_int(1), T{}};
-    // eq 112: a body not over its support is tipping: neither slowed nor put to sleep.
+    // eq 112: a body not over its support may be tipping: not slowed (it sleeps only on its own counter).
     const bool over = !oriented || over_support_[i] != 0;
     if (lockstep::update_sleep(b.v, b.w, b.sleep_counter, supported, over, !oriented, b.R, up, length(b.half),
                                P_)) {  // eqs 78-80
       b.asleep = true;
       b.sleep_frame = frame_;
-    } else if (over && b.sleep_counter >= P_.sleep_frames) {
+    } else if (b.sleep_counter >= P_.sleep_frames) {
       ready.push_back(static_cast<int>(i));
     }
     check_faults(static_cast<int>(i), "sleep");

@@ -62,8 +62,11 @@ LS_HD void integrate_pose(Vec3<T>& p, Quat<T>& q, const Vec3<T>& v, const Vec3<T
 // Stage 9 (eqs 78-80) for one awake body; `up` is its support normal (4.1),
 // (0, 1, 0) when unsupported; `counter` is its sleep counter (eq 78);
 // `radius` its half-diagonal |h| (m); `over`: it is over its support (eq 112;
-// true with the AABB model). A body that is not is tipping: its counter
-// counts, but it is neither slowed (79) nor put to sleep (80) this frame.
+// true with the AABB model). A body that is not may be tipping: its counter
+// counts, but it is never slowed (79); it falls asleep (80) only when the
+// counter reaches sleep_frames on its own (a tip that starts slowly, undamped,
+// grows past the sleep speeds first; one that stays slow is held by what eq
+// 112 does not see, as a box resting on three points of a curved bowl).
 // Returns true when it falls asleep (v and w are then zeroed, eq 80).
 template <class T>
 LS_HD bool update_sleep(Vec3<T>& v, Vec3<T>& w, int& counter, bool supported, bool over, bool support_resting,
@@ -72,10 +75,12 @@ LS_HD bool update_sleep(Vec3<T>& v, Vec3<T>& w, int& counter, bool supported, bo
   const Alignment<T> al = alignment_of(R, up);
   if (sleep_candidate(supported, speed, spin, al.alignment, radius, P)) ++counter;  // eq 78
   else counter = 0;
-  if (!over) return false;  // eq 112
-  switch (sleep_stage(counter, P.drowsy_frames, P.sleep_frames)) {
+  const SleepStage stage = sleep_stage(counter, P.drowsy_frames, P.sleep_frames);
+  if (!over && stage != SleepStage::kAsleep) return false;  // eq 112: not slowed
+  switch (stage) {
     case SleepStage::kAsleep:  // eq 80
       if (!support_resting) {  // eq 109: wait, drowsy, for what holds it up to sleep first
+        if (!over) return false;  // eq 112: not slowed
         v = v * P.drowsy_damping;
         w = w * P.drowsy_damping;
         return false;
