@@ -2,7 +2,7 @@
 """lockstep beside its peers, in one go: the same scenes (one JSON file each,
 read by every engine) on Bullet and lockstep's engines (`peer_bench run`, in
 process: lockstep's through make_engine, the code behind `lockstep run`) and
-on Jolt (PyPI `culverin`, under Python 3.12, one thread; its trajectory
+on Jolt (PyPI `culverin`, under Python 3.12, pinned to one core; its trajectory
 measured by `peer_bench measure`), each measured by the same code: ms per
 step over all frames (stepping only, one thread, CPU time of the process, so
 that other work on a shared machine does not count; the wall clock is in the
@@ -65,11 +65,14 @@ def jolt_worker(scene_path, out_path, frames):
     dt = c.get("dt", 1 / 60)
     g = c.get("gravity", [0.0, -9.81, 0.0])
     n = len(s["bodies"])
-    # num_threads 0: Jolt's job system gets no worker thread and runs every
-    # job on the calling thread. With 1 (before 2026-11-26 afternoon) the
-    # calling thread also ran jobs while it waited: two threads at work (wall
-    # 0.93 ms per step on pile1000 against 1.74 ms of CPU time).
-    world = culverin.PhysicsWorld(settings={"gravity": tuple(g), "num_threads": 0, "max_bodies": n + 16})
+    # One core: culverin runs Jolt's job system with a worker thread beside
+    # the calling thread, which also runs jobs while it waits (num_threads 0
+    # and 1 alike): unpinned, two threads work (pile1000: 0.93 ms per step of
+    # wall clock, 1.74-1.97 ms of CPU time, some of it spent waiting). Pinned
+    # to one core (the threads inherit it), CPU time and wall clock agree:
+    # Jolt's single-threaded figure (1.47-1.56 ms on pile1000, 2026-11-26).
+    os.sched_setaffinity(0, {min(os.sched_getaffinity(0))})
+    world = culverin.PhysicsWorld(settings={"gravity": tuple(g), "num_threads": 1, "max_bodies": n + 16})
     ground = s.get("ground", {"present": True, "height": 0.0})
     if ground.get("present", True):
         gm = ground.get("material", {})
@@ -139,7 +142,7 @@ def run_one(a, engine, scene_path, work):
                 return "skipped: jolt failed: " + r.stderr.strip()[-300:]
             cpu_ms, wall_ms = (float(x) for x in r.stdout.split()[:2])
             res = measure(peer_bench, scene_path, traj, "jolt", cpu_ms, wall_ms)
-            res["description"] = "Jolt (culverin " + r.stderr.strip() + ", one thread)"
+            res["description"] = "Jolt (culverin " + r.stderr.strip() + ", one core)"
             return res
     finally:
         if os.path.exists(traj):
