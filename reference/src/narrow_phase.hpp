@@ -195,16 +195,17 @@ void World<T>::narrow_phase() {
                        over_support(support_arms_[i].data(), n_arms[i], Vec3<T>{T{}, Num<T>::from_int(1), T{}},
                                     length(bodies_[i].w) < P_.sleep_angular);
   }
-  if (scene_.pair_contacts != PairModel::kOrientedBox) return;
-  // eq 112's chain, in stage 6's order: a body riding on a body that tips
-  // tips too.
-  chain_.clear();
+  // Stage 6's order (settle() walks it): the supported awake bodies, lowest
+  // first (ties: index). Nothing before stage 6 moves or wakes a body.
+  settle_order_.clear();
   for (std::size_t i = 0; i < bodies_.size(); ++i)
-    if (bodies_[i].awake() && support_[i] >= 0) chain_.push_back(static_cast<int>(i));
-  std::sort(chain_.begin(), chain_.end(), [&](int a, int b) {
+    if (bodies_[i].awake() && support_[i] >= 0) settle_order_.push_back(static_cast<int>(i));
+  std::sort(settle_order_.begin(), settle_order_.end(), [&](int a, int b) {
     return settles_before(bodies_[static_cast<std::size_t>(a)].p.y, a, bodies_[static_cast<std::size_t>(b)].p.y, b);
   });
-  for (const int idx : chain_) {
+  if (!oriented) return;
+  // eq 112's chain, in that order: a body riding on a body that tips tips too.
+  for (const int idx : settle_order_) {
     const auto i = static_cast<std::size_t>(idx);
     const Contact<T>& c = contacts_[static_cast<std::size_t>(support_[i])];  // the first support
     const int s = c.a == idx ? c.b : c.a;

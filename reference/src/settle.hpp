@@ -13,18 +13,11 @@ Vec3<T> World<T>::support_normal(std::size_t i) const { return support_n_[i]; }
 
 template <class T>
 void World<T>::settle() {
-  // Supported awake bodies, lowest first (ties: index), so that eq 75 sees a
-  // supporting body's final velocity before the body it supports.
-  std::vector<int> order;
-  for (std::size_t i = 0; i < bodies_.size(); ++i)
-    if (bodies_[i].awake() && support_[i] >= 0) order.push_back(static_cast<int>(i));
-  std::sort(order.begin(), order.end(), [&](int a, int b) {
-    const T& ya = bodies_[static_cast<std::size_t>(a)].p.y;
-    const T& yb = bodies_[static_cast<std::size_t>(b)].p.y;
-    return ya != yb ? ya < yb : a < b;
-  });
+  // Supported awake bodies, lowest first (ties: index; narrow_phase's
+  // settle_order_), so that eq 75 sees a supporting body's final velocity
+  // before the body it supports.
   const bool oriented = scene_.pair_contacts == PairModel::kOrientedBox;
-  for (int idx : order) {
+  for (int idx : settle_order_) {
     const auto i = static_cast<std::size_t>(idx);
     Body<T>& b = bodies_[i];
     if (oriented && !over_support_[i]) continue;  // eq 112: it tips; settling would hold it back

@@ -75,24 +75,22 @@ LS_HD bool update_sleep(Vec3<T>& v, Vec3<T>& w, int& counter, bool supported, bo
   const Alignment<T> al = alignment_of(R, up);
   if (sleep_candidate(supported, speed, spin, al.alignment, radius, P)) ++counter;  // eq 78
   else counter = 0;
-  const SleepStage stage = sleep_stage(counter, P.drowsy_frames, P.sleep_frames);
-  if (!over && stage != SleepStage::kAsleep) return false;  // eq 112: not slowed
-  switch (stage) {
+  switch (sleep_stage(counter, P.drowsy_frames, P.sleep_frames)) {
     case SleepStage::kAsleep:  // eq 80
-      if (!support_resting) {  // eq 109: wait, drowsy, for what holds it up to sleep first
-        if (!over) return false;  // eq 112: not slowed
-        v = v * P.drowsy_damping;
-        w = w * P.drowsy_damping;
-        return false;
+      if (support_resting) {
+        v = Vec3<T>{};
+        w = Vec3<T>{};
+        return true;
       }
-      v = Vec3<T>{};
-      w = Vec3<T>{};
-      return true;
+      break;  // eq 109: wait, drowsy, for what holds it up to sleep first
     case SleepStage::kDrowsy:  // eq 79
-      v = v * P.drowsy_damping;
-      w = w * P.drowsy_damping;
+      break;
+    case SleepStage::kAwake:
       return false;
-    case SleepStage::kAwake: break;
+  }
+  if (over) {  // eq 112: a body not over its support is not slowed
+    v = v * P.drowsy_damping;
+    w = w * P.drowsy_damping;
   }
   return false;
 }

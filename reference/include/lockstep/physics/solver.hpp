@@ -516,13 +516,11 @@ LS_HD void solve_manifold_rows(BodyView<T>& A, BodyView<T>& B, const Point& poin
 template <int N, class T, class Point, class Load, class Store>
 LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point, const Load& load, const Store& store,
                           bool friction, bool gravity, const T& k_scale, const Params<T>& P, SolveCounts& counts) {
-  const BodyView<T>& A0 = A;  // only its mass, rotation and inertia are read, which the visit does not change
-  const BodyView<T>& B0 = B;
-  auto row = [&](int k) {
+  auto row = [&](int k) {  // reads A's and B's mass, rotation and inertia, which the visit does not change
     Vec3<T> r1, r2, n;
     T penetration;
     point(k, r1, r2, n, penetration);
-    return normal_row(A0, r1, B0, r2, n);
+    return normal_row(A, r1, B, r2, n);
   };
   solve_manifold_rows<N>(A, B, point, row, load, store, friction, gravity, k_scale, P, counts);
 }
