@@ -97,6 +97,8 @@ int run_command(const RunOptions& o) {
     std::fprintf(stderr, "lockstep run: scene '%s' (%zu bodies, %d frames) on %s\n", scene.name.c_str(), scene.bodies.size(),
                  scene.frames, engine->description().c_str());
   compare::ViewRecorder record(scene.name + "-" + o.engine, o.engine, o.contacts, false);
+  record.set_static_bodies(static_cast<int>(
+      std::count_if(scene.bodies.begin(), scene.bodies.end(), [](const BodyDesc& b) { return b.is_static; })));
   Progress progress(scene.frames, !o.no_progress && !o.quiet);
   write_frame(*out, *engine, jsonl, o.raw);
   record.add(*engine, o.contacts);

@@ -366,6 +366,7 @@ struct SleepApplyK {
   NeighbourLists lists;
   const PairManifold* man;  // null: no pairs
   const int* sleeps;        // per slot
+  const int* leaning;       // per body (eq 115): what it touches holds it, and is recorded
   RestArrays rests;
   float* grow;
   int frame;
@@ -381,6 +382,7 @@ struct SleepApplyK {
     grow[i] = sc.half_tol;
     int n = 0;
     bool full = false;
+    const bool leans_i = ro(leaning + i) != 0;
     if (man != nullptr) {
       for (int t = lists.begin(k); t < lists.end(k) && !full; ++t) {
         const PairManifold& rec = man[t];
@@ -388,7 +390,7 @@ struct SleepApplyK {
         const Vec3<float> nn = xyz(rec.n);
         const float up = i < j ? nn.y : -nn.y;
         for (int c = 0; c < rec.count; ++c) {
-          if (!(rec.pt[c].w > -sc.P.slop) || up < sc.P.support_normal_min) continue;
+          if (!(rec.pt[c].w > -sc.P.slop) || (up < sc.P.support_normal_min && !leans_i)) continue;
           if (ro(b.pos + j).w == 0.0f) continue;  // a static body (inverse mass 0; its flags may be written now)
           bool seen = false;
           for (int r = 0; r < n; ++r) seen = seen || rests.body[kMaxRests * i + r] == j;

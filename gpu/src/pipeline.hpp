@@ -64,6 +64,7 @@ class Pipeline final : public PipelineBase {
     be_.fill_int(wake_flag_.data(), 0, n + 1);
     support_idx_.resize(n + 1);
     over_support_.resize(n + 1);
+    leaning_.resize(n + 1);
     for (auto& c : over_chain_) c.resize(n + 1);
     support_n_.resize(n + 1);
     for (auto& b : settle_) b.resize(n + 1);
@@ -278,6 +279,7 @@ class Pipeline final : public PipelineBase {
   Buf<F4> sdf_c0_, sdf_c1_, support_n_;
   Buf<int> support_idx_;
   Buf<int> over_support_;  // eq 112, per body (written by ContactsK for the active ones)
+  Buf<int> leaning_;       // eq 115, per body (written by ContactsK with over_support_)
   Buf<int> over_chain_[2];  // eq 112's chain: its sweeps, per body
   Buf<F4> settle_[2];
   Buf<F4> p_tmp_, q_tmp_;
@@ -489,6 +491,7 @@ void Pipeline<B>::step() {
                  ang_[1].data(), ctr_.data()};
     ck.grow = grow;
     ck.over_support = over_support_.data();
+    ck.leaning = leaning_.data();
     be_.for_n(n_active, ck);
   }
   // eq 112's chain: a body riding on a body that tips tips too (sweeps).
@@ -552,7 +555,7 @@ void Pipeline<B>::step() {
   // 6: settling sweeps but the last (which runs with the correction).
   be_.mark(kStageSettle);
   SettleSweep sweep{support_idx_.data(), support_n_.data(), vel_[last].data(), vel_[last].data(), oriented_};
-  if (oriented_) sweep.over = over;
+  if (oriented_) sweep.over = over, sweep.leaning = leaning_.data();
   if (fx_.settling && n_active > 0) {
     const int batch = std::max(1, opt_.settle_batch);
     for (int s = 0;;) {  // until every body's settled velocity is final
@@ -615,7 +618,7 @@ void Pipeline<B>::step() {
                     support_n_.data(), frame_, keep_.data(), scal_.data() + 1, ctr_.data()};
     const bool eq109 = oriented_ && fx_.sleep;
     cs.ready = eq109 ? ready_.data() : nullptr;
-    if (oriented_) cs.over = over;  // eq 112: one not over its support is not slowed (it sleeps on its own counter only)
+    if (oriented_) cs.over = over, cs.leaning = leaning_.data();  // eq 112: one not over its support is not slowed (it sleeps on its own counter only)
     be_.for_n(n_active, cs);
     if (eq109) {  // eq 109: the ready bodies fall asleep bottom-up (sweeps)
       const PairManifold* pairs = contacts && n_awake > 0 ? man : nullptr;
@@ -624,8 +627,8 @@ void Pipeline<B>::step() {
         be_.for_n(n_active, SleepSweepK{active, body_, sc_, nl, pairs, slot_of_[par].data(), ready_.data(),
                                         sleep_sw_[in].data(), sleep_sw_[out].data(), changed});
       });
-      be_.for_n(n_active, SleepApplyK{active, body_, sc_, nl, pairs, sleep_sw_[r].data(), rests(), grow_.data(),
-                                      frame_, keep_.data()});
+      be_.for_n(n_active, SleepApplyK{active, body_, sc_, nl, pairs, sleep_sw_[r].data(), leaning_.data(), rests(),
+                                      grow_.data(), frame_, keep_.data()});
     }
     be_.exclusive_scan(keep_.data(), keep_scan_.data(), n_active);
     be_.for_n(n_active, ScatterK{active, keep_.data(), keep_scan_.data(), list_[1 - cur_].data()});

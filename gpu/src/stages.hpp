@@ -744,6 +744,7 @@ struct ContactsK {
   Counter* ctr;
   const float* grow = nullptr;  // oriented-box model: per body, its AABB growth (eqs 97, 107)
   int* over_support = nullptr;  // per body: 1 when its centre of mass is over its support contacts (eq 112)
+  int* leaning = nullptr;       // per body: 1 when it leans on what holds it beyond its support (eq 115)
   LS_HD void operator()(int k) const {
     const BodyArrays& b = d.b;
     const SceneConsts& sc = d.sc;
@@ -952,11 +953,12 @@ struct ContactsK {
     const Vec3<float> n_s = support != kNoSupport ? normalize(support_sum) : Vec3<float>{};
     support_n[i] = f4(n_s, support_gap_min);  // w: the support gap
     // eq 112, seen along up; a centre on the boundary counts while the body is slow
-    if (over_support != nullptr)
-      over_support[i] = support == kNoSupport || loaded ||
-                                lockstep::over_support(arms, n_arms, up, length(w0) < sc.P.sleep_angular)
-                            ? 1
-                            : 0;
+    if (over_support != nullptr) {
+      const bool over_contacts =
+          support == kNoSupport || lockstep::over_support(arms, n_arms, up, length(w0) < sc.P.sleep_angular);
+      over_support[i] = loaded || over_contacts ? 1 : 0;
+      leaning[i] = leans(support != kNoSupport, loaded, over_contacts) ? 1 : 0;  // eq 115
+    }
     vout[i] = f4(self.v, 0.0f);
     wout[i] = f4(self.w, 0.0f);
     add_counter(&ctr[kCGroundContacts], ground_contacts);
@@ -1299,7 +1301,9 @@ struct SettleSweep {
   const F4* sin;    // the previous sweep's (sweep 0: vpost)
   bool relative = false;  // the oriented-box model: eq 77 relative to the support's velocity
   const int* over = nullptr;  // the oriented-box model: per body, over its support (eq 112); one that is not does not settle
+  const int* leaning = nullptr;  // the oriented-box model: per body, it leans (eq 115): not righted
   LS_HD bool settles(int i) const { return over == nullptr || ro(over + i) != 0; }
+  LS_HD bool leans(int i) const { return leaning != nullptr && ro(leaning + i) != 0; }
   // Eqs 75, 77 on v (the solver's velocity of body i); returns |v| after eq 75
   // (what righting uses), or a negative value for a body with no support
   // (v unchanged). `final`: the result is World<T>'s (it read no support's
@@ -1386,7 +1390,8 @@ struct CorrectIntegrateK {
         // not awake, the ground, an SDF volume).
         const int s = ro(sweep.support_idx + i);
         const bool movable = sc.oriented && s >= 0 && is_awake(ro(b.flags + s));
-        wf = settle_angular_velocity(wf, rotation_matrix(q0), xyz(ro(sweep.support_n + i)), speed, !movable, sc.P);
+        wf = settle_angular_velocity(wf, rotation_matrix(q0), xyz(ro(sweep.support_n + i)), speed, !movable,
+                                     sweep.leans(i), sc.P);
         add_counter(&ctr[kCSettlingBodies], 1u);
       }
     }
@@ -1481,6 +1486,7 @@ struct CommitSleepK {
   Counter* ctr;
   int* ready = nullptr;  // oriented-box model: per slot, 1 when its counter reached sleep_frames (eq 109 decides)
   const int* over = nullptr;  // oriented-box model: per body, over its support (eq 112)
+  const int* leaning = nullptr;  // oriented-box model: per body, it leans (eq 115): its alignment is not asked
   LS_HD void operator()(int k) const {
     const int i = list[k];
     const F4 p4 = p_in[k];
@@ -1497,7 +1503,9 @@ struct CommitSleepK {
       const bool supported = support_idx[i] != kNoSupport;
       const Vec3<float> up = supported ? xyz(support_n[i]) : Vec3<float>{0.0f, Num<float>::from_int(1), 0.0f};
       const bool is_over = over == nullptr || over[i] != 0;  // eq 112: one not over its support may be tipping
-      asleep = update_sleep(v, w, counter, supported, is_over, !sc.oriented, R, up, length(xyz(b.half[i])), sc.P);
+      const bool leaning_i = leaning != nullptr && leaning[i] != 0;  // eq 115
+      asleep = update_sleep(v, w, counter, supported, is_over, leaning_i, !sc.oriented, R, up, length(xyz(b.half[i])),
+                            sc.P);
       b.sleep_counter[i] = counter;
       if (ready != nullptr) ready[k] = counter >= sc.P.sleep_frames ? 1 : 0;
       b.vel[i] = f4(v, 0.0f);

@@ -191,9 +191,11 @@ void World<T>::narrow_phase() {
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     if (support_[i] >= 0) support_n_[i] = normalize(support_n_[i]);
     // eq 112, seen along up; a centre on the boundary counts while the body is slow
-    over_support_[i] = support_[i] < 0 || loaded[i] != 0 ||
-                       over_support(support_arms_[i].data(), n_arms[i], Vec3<T>{T{}, Num<T>::from_int(1), T{}},
-                                    length(bodies_[i].w) < P_.sleep_angular);
+    const bool over_contacts =
+        support_[i] < 0 || over_support(support_arms_[i].data(), n_arms[i], Vec3<T>{T{}, Num<T>::from_int(1), T{}},
+                                        length(bodies_[i].w) < P_.sleep_angular);
+    over_support_[i] = loaded[i] != 0 || over_contacts;
+    leaning_[i] = oriented && leans(support_[i] >= 0, loaded[i] != 0, over_contacts) ? 1 : 0;  // eq 115
   }
   // Stage 6's order (settle() walks it): the supported awake bodies, lowest
   // first (ties: index). Nothing before stage 6 moves or wakes a body.

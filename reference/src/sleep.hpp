@@ -54,7 +54,8 @@ void World<T>::wake_unsupported() {
 }
 
 // eq 108: what body i rests on as it falls asleep: the dynamic bodies of its
-// support contacts (Part 4), each once, in contact order, at most kMaxRests;
+// support contacts (Part 4), or of every contact it touches when it leans
+// (eq 115: what holds it), each once, in contact order, at most kMaxRests;
 // the support point in the supporter's frame, and where it is now.
 template <class T>
 void World<T>::record_supports(std::size_t i) {
@@ -64,7 +65,7 @@ void World<T>::record_supports(std::size_t i) {
     if (c.b < 0 || !(c.penetration > -P_.slop)) continue;
     const bool is_a = c.a == static_cast<int>(i), is_b = c.b == static_cast<int>(i);
     if (!is_a && !is_b) continue;
-    if ((is_a ? c.n.y : -c.n.y) < P_.support_normal_min) continue;
+    if ((is_a ? c.n.y : -c.n.y) < P_.support_normal_min && leaning_[i] == 0) continue;
     const int other = is_a ? c.b : c.a;
     const Body<T>& s = bodies_[static_cast<std::size_t>(other)];
     if (s.is_static) continue;
@@ -94,8 +95,8 @@ void World<T>::update_sleep() {
     const Vec3<T> up = supported ? support_normal(i) : Vec3<T>{T{}, Num<T>::from_int(1), T{}};
     // eq 112: a body not over its support may be tipping: not slowed (it sleeps only on its own counter).
     const bool over = !oriented || over_support_[i] != 0;
-    if (lockstep::update_sleep(b.v, b.w, b.sleep_counter, supported, over, !oriented, b.R, up, length(b.half),
-                               P_)) {  // eqs 78-80
+    if (lockstep::update_sleep(b.v, b.w, b.sleep_counter, supported, over, leaning_[i] != 0, !oriented, b.R, up,
+                               length(b.half), P_)) {  // eqs 78-80, 115
       b.asleep = true;
       b.sleep_frame = frame_;
     } else if (b.sleep_counter >= P_.sleep_frames) {

@@ -79,6 +79,7 @@ World<T>::World(const Scene& scene) : scene_(scene), P_(Params<T>::from(scene.co
   support_n_.assign(bodies_.size(), Vec3<T>{});
   support_gap_.assign(bodies_.size(), T{});
   over_support_.assign(bodies_.size(), 1);
+  leaning_.assign(bodies_.size(), 0);
 }
 
 template <class T>
@@ -102,6 +103,7 @@ World<T>& World<T>::operator=(const World& other) {
   support_n_ = other.support_n_;
   support_gap_ = other.support_gap_;
   over_support_ = other.over_support_;
+  leaning_ = other.leaning_;
   ground_y_ = other.ground_y_;
   ground_e_ = other.ground_e_;
   ground_mu_ = other.ground_mu_;

@@ -71,6 +71,27 @@ TEST(View, RecorderKeepsTheEnginesStatesHashesAndContacts) {
   EXPECT_GT(r.contact_count[5], 0) << "a stack of five touches the ground and itself";
 }
 
+// A static body never sleeps (it never moves): the frame all are asleep is
+// the one where every other body is (a cube resting beside a static box).
+TEST(View, AllAsleepFrameLeavesStaticBodiesAside) {
+  Scene scene = *builtin_scene("drop");
+  BodyDesc wall;
+  wall.half_extents = {0.5, 1.0, 0.5};
+  wall.position = {3.0, 1.0, 0.0};
+  wall.is_static = true;
+  scene.bodies.push_back(wall);
+  auto engine = make_engine("fixed", scene);
+  ViewRecorder with("fixed", "fixed", false), without("fixed", "fixed", false);
+  with.set_static_bodies(1);
+  for (int f = 1; f <= 200; ++f) {
+    engine->step();
+    with.add(*engine, false);
+    without.add(*engine, false);
+  }
+  EXPECT_GT(with.all_asleep_frame(), 0) << "the dropped cube sleeps by frame 200";
+  EXPECT_EQ(without.all_asleep_frame(), -1) << "counted as a body that must sleep, the static box never does";
+}
+
 TEST(View, RunsPartWhereABodyLeavesThePositionTolerance) {
   const CompareTolerances tol;  // 0.05 m, 0.1 rad
   const auto still = [](int, int b) { return 2.0 * b; };

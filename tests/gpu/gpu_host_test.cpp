@@ -146,9 +146,29 @@ TEST(GpuHost, StacksMatchWorldFloatBitForBit) {
   over.position = {1.005, 2.5, 0.0};
   load.position = {1.005, 3.5, 0.0};
   loaded_overhang.bodies = {base, over, load};
+  // The oriented model: a plank leaning 30 degrees on a static wall rests
+  // there and sleeps (eq 115: not righted, no alignment test for sleep).
+  Scene leaning;
+  leaning.pair_contacts = model;
+  leaning.name = "leaning";
+  leaning.frames = 200;
+  leaning.effects.sdf = false;
+  BodyDesc wall, plank;
+  wall.half_extents = {0.2, 1.5, 1.0};
+  wall.position = {0.0, 1.5, 0.0};
+  wall.is_static = true;
+  const double tilt = 30.0 * 3.14159265358979 / 180.0;
+  plank.half_extents = {0.05, 1.0, 0.3};
+  plank.mass = 2.0;
+  plank.orientation = {std::cos(tilt / 2), 0.0, 0.0, std::sin(tilt / 2)};
+  plank.position = {0.2 + std::sin(tilt) + 0.05 * std::cos(tilt) + 0.01, std::cos(tilt) + 0.05 * std::sin(tilt) + 0.01,
+                    0.0};
+  leaning.bodies = {wall, plank};
   for (const Scene& s :
-       {tower(20, 0.0), tower(10, 0.1), scene("stack5", model), heavy_on_light, twisted, loaded_overhang}) {
-    if ((s.name == twisted.name || s.name == loaded_overhang.name) && model != PairModel::kOrientedBox) continue;
+       {tower(20, 0.0), tower(10, 0.1), scene("stack5", model), heavy_on_light, twisted, loaded_overhang, leaning}) {
+    if ((s.name == twisted.name || s.name == loaded_overhang.name || s.name == leaning.name) &&
+        model != PairModel::kOrientedBox)
+      continue;
     SCOPED_TRACE(s.name);
     const SideBySide r = expect_world_float_bits(s);
     EXPECT_EQ(r.gpu.normal_impulses, r.world.normal_impulses);

@@ -355,5 +355,74 @@ TYPED_TEST(AnalyticTest, OverhangingBoxWithALoadTipsOff) {
   }
 }
 
+// Eq 115: a body that a contact holds beyond its support leans on it. A
+// plank (0.1 x 2 x 0.6 m, 2 kg) leaning on a wall with its foot on the ground
+// (friction 0.5, enough up to about 53 degrees) rests where it leans and falls
+// asleep. Before, the wall's hold let it settle as a body over its support:
+// righting (67-71) turned it towards the ground's normal, its foot slid
+// towards the wall (30 degrees: 9 degrees from vertical at frame 900, never
+// asleep), and the alignment test (78) never let it sleep. With friction 0.1
+// it slides down and lies flat; a cube tilted 10-20 degrees against the wall,
+// its centre over the ground beyond its edge, falls back flat (nothing holds
+// it there: gravity turns it, eq 115 only stops the righting) and sleeps flat.
+template <class T>
+World<T> against_wall(double degrees, const BodyDesc& body, double mu, bool static_wall, int frames) {
+  Scene s;
+  BodyDesc wall;
+  wall.half_extents = {0.2, 1.5, 1.0};
+  wall.position = {0.0, 1.5, 0.0};
+  wall.is_static = static_wall;
+  wall.mass = 50.0;
+  wall.material.friction = mu;
+  BodyDesc b = body;
+  const double th = degrees * 3.14159265358979323846 / 180.0, hx = b.half_extents.x, hy = b.half_extents.y;
+  b.orientation = {std::cos(th / 2), 0.0, 0.0, std::sin(th / 2)};  // about z: its top towards the wall (-x)
+  // its upper left edge 1 cm from the wall's face (x = 0.2), its lowest edge 1 cm above the ground
+  b.position = {0.2 + hx * std::cos(th) + hy * std::sin(th) + 0.01, hy * std::cos(th) + hx * std::sin(th) + 0.01, 0.0};
+  b.material.friction = mu;
+  s.ground.material.friction = mu;
+  s.bodies = {wall, b};
+  World<T> w(s);
+  for (int n = 0; n < frames && !w.all_asleep(); ++n) w.step();
+  return w;
+}
+template <class T>
+double tilt_degrees(const World<T>& w, std::size_t i) {  // about z, from the body's up
+  return 2.0 * std::atan2(d(w.body(i).q.z), d(w.body(i).q.w)) * 180.0 / 3.14159265358979323846;
+}
+
+TYPED_TEST(AnalyticTest, PlankLeaningOnAWallRestsThereAndSleeps) {
+  using T = TypeParam;
+  const int frames = std::is_same_v<T, Mp> ? 150 : 400;
+  BodyDesc plank;
+  plank.half_extents = {0.05, 1.0, 0.3};
+  plank.mass = 2.0;
+  for (const double degrees : {15.0, 30.0, 45.0}) {
+    for (const bool static_wall : {true, false}) {
+      SCOPED_TRACE(::testing::Message() << degrees << " degrees, " << (static_wall ? "static" : "50 kg") << " wall");
+      const World<T> w = against_wall<T>(degrees, plank, 0.5, static_wall, frames);
+      EXPECT_TRUE(w.all_asleep()) << "awake at frame " << w.frame() << ", tilt " << tilt_degrees(w, 1);
+      EXPECT_NEAR(tilt_degrees(w, 1), degrees, 1.0) << "x " << d(w.body(1).p.x) << ", y " << d(w.body(1).p.y);
+      // resting on the wall: its centre where the tilt puts it, its foot on the ground
+      const double th = degrees * 3.14159265358979323846 / 180.0;
+      EXPECT_NEAR(d(w.body(1).p.x) - d(w.body(0).p.x), 0.2 + 0.05 * std::cos(th) + std::sin(th), 0.02);
+      EXPECT_NEAR(d(w.body(1).p.y), std::cos(th) + 0.05 * std::sin(th), 0.02);
+    }
+  }
+  // Too little friction to hold it: it slides down and lies flat.
+  const World<T> slips = against_wall<T>(30.0, plank, 0.1, true, frames);
+  EXPECT_NEAR(d(slips.body(1).p.y), 0.05, 0.01) << "tilt " << tilt_degrees(slips, 1);
+  EXPECT_NEAR(std::fabs(tilt_degrees(slips, 1)), 90.0, 1.0);
+  // A cube against the wall whose centre is beyond its edge, away from the
+  // wall: it falls back flat and sleeps.
+  for (const double degrees : {10.0, 20.0}) {
+    SCOPED_TRACE(::testing::Message() << "cube at " << degrees << " degrees");
+    const World<T> cube = against_wall<T>(degrees, unit_cube(0, 0, 0), 0.5, true, frames);
+    EXPECT_NEAR(tilt_degrees(cube, 1), 0.0, 0.5);
+    EXPECT_NEAR(d(cube.body(1).p.y), 0.5, 0.01);
+    EXPECT_TRUE(cube.all_asleep());
+  }
+}
+
 }  // namespace
 }  // namespace lockstep::test

@@ -350,6 +350,10 @@ Json f_over_with_support(In in, const std::string& p) {
   return Json{{"over", over_with_support(bool_at(in, "over", p), bool_at(in, "support_before", p),
                                          bool_at(in, "support_over", p))}};
 }
+// eq 115: whether a supported body leans on what holds it beyond its support.
+Json f_leans(In in, const std::string& p) {
+  return Json{{"leans", leans(bool_at(in, "supported", p), bool_at(in, "held", p), bool_at(in, "over_contacts", p))}};
+}
 // eq 113: whether one side of a solver visit is converged.
 Json f_visit_converged(In in, const std::string& p) {
   return Json{{"converged", visit_converged(vec_at(in, "v0", p), vec_at(in, "w0", p), vec_at(in, "v", p),
@@ -536,6 +540,8 @@ const std::vector<Formula>& formulas() {
        f_settles_before},
       {"over_with_support", {112}, "over and not (support_before and not support_over): a body riding on a body that tips tips",
        f_over_with_support},
+      {"leans", {115}, "supported and held and not over_contacts: it rests tilted on what holds it (not righted, no alignment test for sleep)",
+       f_leans},
       {"settle_linear", {77}, "v * settle_factor if speed < settle_speed, else v", f_settle_linear},
       {"visit_converged", {113}, "true iff |v_k - v0_k| < eps and |w_k - w0_k| < eps for every component k",
        f_visit_converged},
@@ -823,6 +829,10 @@ std::vector<Case> cases_for(const std::string& fn, Rng& rng) {
       in = {{"ys", to_json(ys)}, {"s", k % 5}, {"yi", to_json(k % 3 == 0 ? ys : rng.q16(-2, 2))}, {"i", (k / 5) % 5}};
     } else if (fn == "over_with_support") {
       in = {{"over", (k & 1) != 0}, {"support_before", (k & 2) != 0}, {"support_over", (k & 4) != 0}};
+      add(in, "", {"Sweep"});
+      continue;
+    } else if (fn == "leans") {
+      in = {{"supported", (k & 1) != 0}, {"held", (k & 2) != 0}, {"over_contacts", (k & 4) != 0}};
       add(in, "", {"Sweep"});
       continue;
     } else if (fn == "visit_converged") {

@@ -47,7 +47,7 @@ void ViewRecorder::add(const EngineRun& e, bool keep_state) {
     asleep += bodies.back().asleep ? 1 : 0;
   }
   at(run_.asleep_count, asleep);
-  if (frame > 0 && all_asleep_frame_ < 0 && n > 0 && asleep == n) all_asleep_frame_ = frame;
+  if (frame > 0 && all_asleep_frame_ < 0 && n > static_bodies_ && asleep + static_bodies_ == n) all_asleep_frame_ = frame;
   run_.has_contacts = e.has_contacts();
   std::vector<ContactSnapshot> contacts;
   if (run_.has_contacts) {

@@ -169,6 +169,7 @@ class World {
   std::vector<Vec3<T>> support_n_;    // per body: its support normal (4.1), zero if none
   std::vector<T> support_gap_;        // per body: its support gap (75), the smallest gap of its supports
   std::vector<int> settle_order_;     // narrow_phase: awake supported bodies in stage 6's order (settle, eq 112's chain)
+  std::vector<char> leaning_;         // per body: it leans on what holds it beyond its support (eq 115)
   std::vector<char> over_support_;    // per body: eq 112 lets it settle (its centre of mass is over its support contacts, or it is held by more)
   std::vector<std::array<Vec3<T>, kMaxSupportPoints>> support_arms_;  // stage 3 scratch: per body, its support contacts' lever arms (eq 112)
   std::vector<Vec3<T>> corrected_from_;  // per body: its position before this frame's correction (eq 89 order)

@@ -56,8 +56,11 @@ class ViewRecorder {
   void add(const EngineRun& e, bool keep_state);
   const ViewRun& run() const { return run_; }
   ViewRun take() { return std::move(run_); }
-  // The first frame after frame 0 where every body is asleep; -1: none.
+  // The first frame after frame 0 where every body is asleep, the scene's
+  // static bodies (never asleep: they never move) aside; -1: none.
   int all_asleep_frame() const { return all_asleep_frame_; }
+  // How many of the scene's bodies are static (0 unless set).
+  void set_static_bodies(int count) { static_bodies_ = count; }
   // The deepest penetration over every frame added (m); 0 when none.
   double worst_penetration() const { return worst_penetration_; }
 
@@ -65,6 +68,7 @@ class ViewRecorder {
   ViewRun run_;
   bool record_contacts_, keep_states_;
   int all_asleep_frame_ = -1;
+  int static_bodies_ = 0;
   double worst_penetration_ = 0;
 };
 

@@ -44,11 +44,12 @@ LS_HD T settle_linear_velocity(Vec3<T>& v, const Vec3<T>& v_support, const Vec3<
 // support only (`immovable`: ground, SDF, static or sleeping body), the
 // damping regimes (eqs 72-74), "up" being the support normal n; `speed` is
 // what settle_linear_velocity returned.
+// A leaning body (eq 115) is not righted.
 template <class T>
 LS_HD Vec3<T> settle_angular_velocity(const Vec3<T>& w, const Mat3<T>& R, const Vec3<T>& n, const T& speed,
-                                      bool immovable, const Params<T>& P) {
-  const Alignment<T> al = alignment_of(R, n);       // eqs 64-66 (65 fixed)
-  const Vec3<T> w1 = righting(w, al, n, speed, P);  // eqs 67-71
+                                      bool immovable, bool leaning, const Params<T>& P) {
+  const Alignment<T> al = alignment_of(R, n);                  // eqs 64-66 (65 fixed)
+  const Vec3<T> w1 = leaning ? w : righting(w, al, n, speed, P);  // eqs 67-71, 115
   return immovable ? regime_damping(w1, al.alignment, P) : w1;  // eqs 72-74
 }
 
@@ -67,13 +68,17 @@ LS_HD void integrate_pose(Vec3<T>& p, Quat<T>& q, const Vec3<T>& v, const Vec3<T
 // counter reaches sleep_frames on its own (a tip that starts slowly, undamped,
 // grows past the sleep speeds first; one that stays slow is held by what eq
 // 112 does not see, as a box resting on three points of a curved bowl).
+// `leaning`: it leans (eq 115) and rests tilted on what holds it: it counts
+// as supported, its alignment is not asked, and, as one not over its support
+// contacts, it is not slowed (79).
 // Returns true when it falls asleep (v and w are then zeroed, eq 80).
 template <class T>
-LS_HD bool update_sleep(Vec3<T>& v, Vec3<T>& w, int& counter, bool supported, bool over, bool support_resting,
-                        const Mat3<T>& R, const Vec3<T>& up, const T& radius, const Params<T>& P) {
+LS_HD bool update_sleep(Vec3<T>& v, Vec3<T>& w, int& counter, bool supported, bool over, bool leaning,
+                        bool support_resting, const Mat3<T>& R, const Vec3<T>& up, const T& radius,
+                        const Params<T>& P) {
   const T speed = length(v), spin = length(w);
-  const Alignment<T> al = alignment_of(R, up);
-  if (sleep_candidate(supported, speed, spin, al.alignment, radius, P)) ++counter;  // eq 78
+  const T alignment = leaning ? Num<T>::from_int(1) : alignment_of(R, up).alignment;  // eqs 64-66, 115
+  if (sleep_candidate(supported || leaning, speed, spin, alignment, radius, P)) ++counter;  // eqs 78, 115
   else counter = 0;
   switch (sleep_stage(counter, P.drowsy_frames, P.sleep_frames)) {
     case SleepStage::kAsleep:  // eq 80
@@ -88,7 +93,7 @@ LS_HD bool update_sleep(Vec3<T>& v, Vec3<T>& w, int& counter, bool supported, bo
     case SleepStage::kAwake:
       return false;
   }
-  if (over) {  // eq 112: a body not over its support is not slowed
+  if (over && !leaning) {  // eqs 112, 115: a body not over its support contacts is not slowed (it may be tipping)
     v = v * P.drowsy_damping;
     w = w * P.drowsy_damping;
   }

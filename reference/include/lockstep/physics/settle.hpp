@@ -168,6 +168,20 @@ LS_HD bool holds_off_support(const Vec3<T>& n, bool immovable, const T& support_
   return immovable || n.y > -support_normal_min;
 }
 
+// eq 115: whether a body leans: a contact holds it (`held`:
+// holds_off_support, a wall, a neighbour beside it, a sleeper above it) and
+// either it has no support contact (`supported`: wedged between steep
+// contacts) or its centre is not over its support contacts (`over_contacts`:
+// eq 112's test along up). It rests tilted against what holds it: it is not
+// righted (67-71 would turn it against the hold: a plank leaning on a wall
+// was stood upright, sliding its foot towards the wall), its sleep test (78)
+// counts it as supported and asks no alignment, and what it touches is
+// recorded for eq 108. A body held beside it but over its support (a cube in
+// a pile) does not lean.
+LS_HD inline bool leans(bool supported, bool held, bool over_contacts) {
+  return held && (!supported || !over_contacts);
+}
+
 // eq 112 (the chain): whether body i (height yi) settles before body s
 // (height ys): stage 6 visits supported bodies in ascending (y, index) order.
 template <class T>
