@@ -21,6 +21,7 @@ struct RestArrays {
   int* body = nullptr;   // 4 per body
   F4* local = nullptr;   // 4 per body
   F4* rest = nullptr;    // 4 per body
+  F4* last = nullptr;    // 4 per body: where the point was at the frame's start (eq 108's speed)
 };
 inline constexpr int kMaxRests = 4;
 
@@ -56,7 +57,9 @@ struct TipChainK {
 // Stage 2a (eq 108), one sweep over every body: a sleeping body wakes when a
 // body it rested on is awake (awake at the frame's start, or woken by this
 // wake at a lower index: the previous sweep's `in`) and has carried its
-// support point away by more than wake_support_distance.
+// support point away by more than wake_support_distance, or by more than
+// sleep_linear dt since the last frame's start (`rests.last`, which
+// RestLastK then moves on).
 struct SupportWakeK {
   BodyArrays b;
   SceneConsts sc;
@@ -72,12 +75,31 @@ struct SupportWakeK {
       const bool awake = is_awake(ro(b.flags + s)) || (s < i && ro(in + s) != 0);
       if (!awake) continue;
       const Mat3<float> R = rotation_matrix(quat(ro(b.rot + s)));
-      if (support_moved(xyz(ro(b.pos + s)), R, xyz(ro(rests.local + kMaxRests * i + r)),
-                        xyz(ro(rests.rest + kMaxRests * i + r)), sc.P.wake_support_distance))  // eq 108
+      const Vec3<float> ps = xyz(ro(b.pos + s)), local = xyz(ro(rests.local + kMaxRests * i + r));
+      if (support_moved(ps, R, local, xyz(ro(rests.rest + kMaxRests * i + r)), sc.P.wake_support_distance) ||
+          support_moving(support_point(ps, R, local), xyz(ro(rests.last + kMaxRests * i + r)),
+                         sc.P.sleep_linear * sc.P.dt))  // eq 108
         woke = 1;
     }
     out[i] = woke;
     if (changed != nullptr) add_to(changed, woke != ro(in + i) ? 1 : 0);
+  }
+};
+
+// Eq 108's speed, after the support wake: every sleeper's records take
+// where their points are now (World<T>::wake_unsupported's `last`).
+struct RestLastK {
+  BodyArrays b;
+  RestArrays rests;
+  LS_HD void operator()(int i) const {
+    if ((ro(b.flags + i) & kFlagAsleep) == 0) return;
+    const int n = ro(rests.count + i);
+    for (int r = 0; r < n; ++r) {
+      const int s = ro(rests.body + kMaxRests * i + r);
+      const Mat3<float> R = rotation_matrix(quat(ro(b.rot + s)));
+      rests.last[kMaxRests * i + r] =
+          f4(support_point(xyz(ro(b.pos + s)), R, xyz(ro(rests.local + kMaxRests * i + r))), 0.0f);
+    }
   }
 };
 
@@ -402,7 +424,7 @@ struct SleepApplyK {
           const Vec3<float> local = mat_transpose_mul(R, xyz(rec.pt[c]) - pj);
           rests.body[kMaxRests * i + n] = j;
           rests.local[kMaxRests * i + n] = f4(local, 0.0f);
-          rests.rest[kMaxRests * i + n] = f4(pj + R * local, 0.0f);
+          rests.rest[kMaxRests * i + n] = rests.last[kMaxRests * i + n] = f4(support_point(pj, R, local), 0.0f);
           ++n;
         }
       }

@@ -101,6 +101,7 @@ class Pipeline final : public PipelineBase {
       rest_body_.resize(kMaxRests * n + 1);
       rest_local_.resize(kMaxRests * n + 1);
       rest_point_.resize(kMaxRests * n + 1);
+      rest_last_.resize(kMaxRests * n + 1);
       p_world_.resize(n + 1);
       p_pairs_.resize(n + 1);
       turn_slot_.resize(n + 1);
@@ -306,9 +307,10 @@ class Pipeline final : public PipelineBase {
   Buf<F4> before_[2], turn_[2], p_world_, p_pairs_, turn_slot_;
   Buf<int> ready_, sleep_sw_[2], wake_sw_[2];
   Buf<int> rest_count_, rest_body_;
-  Buf<F4> rest_local_, rest_point_;
+  Buf<F4> rest_local_, rest_point_, rest_last_;
   RestArrays rests() {
-    return RestArrays{rest_count_.data(), rest_body_.data(), rest_local_.data(), rest_point_.data()};
+    return RestArrays{rest_count_.data(), rest_body_.data(), rest_local_.data(), rest_point_.data(),
+                      rest_last_.data()};
   }
   // Runs sweep(in, out, changed) until a sweep changes nothing (batches of
   // settle_batch, one synchronisation each; at most `limit` sweeps: the
@@ -354,6 +356,7 @@ void Pipeline<B>::step() {
     });
     be_.fill_int(scal_.data(), 0, 1);
     be_.for_n(n_, SupportWakeApplyK{body_, wake_sw_[r].data(), woken_.data(), scal_.data()});
+    be_.for_n(n_, RestLastK{body_, rests()});  // eq 108's speed: where the points are now
     const int n_woken = read_int(scal_.data());
     if (n_woken > 0) {
       be_.sort_ints(woken_.data(), woken_tmp_.data(), n_woken);

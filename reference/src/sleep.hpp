@@ -33,21 +33,28 @@ void World<T>::wake_touched(const std::vector<Contact<T>>& pair_contacts) {
 
 // eq 108: before the broadphase, in index order, a sleeping body wakes when a
 // dynamic body it rested on has carried its support point away by more than
-// wake_support_distance (only an awake supporter can have moved). It then
-// takes part in this frame's broadphase, contacts and solve.
+// wake_support_distance, or by more than sleep_linear dt since the last
+// frame's start (only an awake supporter can have moved). It then takes part
+// in this frame's broadphase, contacts and solve. Each record's `last` is
+// where its point is now.
 template <class T>
 void World<T>::wake_unsupported() {
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     Body<T>& b = bodies_[i];
     if (!b.asleep) { rests_[i].clear(); continue; }
-    for (const Rest& r : rests_[i]) {
+    bool woke = false;
+    for (Rest& r : rests_[i]) {
       const Body<T>& s = bodies_[static_cast<std::size_t>(r.body)];
-      if (!s.awake() || !support_moved(s.p, s.R, r.local, r.rest, P_.wake_support_distance)) continue;
+      const Vec3<T> now = support_point(s.p, s.R, r.local);
+      woke = woke || (s.awake() && (support_moved(s.p, s.R, r.local, r.rest, P_.wake_support_distance) ||
+                                    support_moving(now, r.last, P_.sleep_linear * P_.dt)));
+      r.last = now;
+    }
+    if (woke) {
       b.asleep = false;
       b.sleep_counter = 0;
       ++counters_.wakes;
       rests_[i].clear();
-      break;
     }
     check_faults(static_cast<int>(i), "support wake");
   }
@@ -74,7 +81,8 @@ void World<T>::record_supports(std::size_t i) {
     if (seen) continue;
     if (static_cast<int>(rests.size()) == kMaxRests) break;
     const Vec3<T> local = mat_transpose_mul(s.R, c.point - s.p);
-    rests.push_back({other, local, s.p + s.R * local});
+    const Vec3<T> at = support_point(s.p, s.R, local);
+    rests.push_back({other, local, at, at});
   }
 }
 

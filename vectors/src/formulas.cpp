@@ -210,6 +210,12 @@ Json f_support_moved(In in, const std::string& p) {
   return Json{{"moved", support_moved(vec_at(in, "p", p), mat_at(in, "R", p), vec_at(in, "local", p),
                                       vec_at(in, "rest", p), q16_at(in, "distance", p))}};
 }
+// eq 108's speed: the support point now (p + R local) and whether it moved
+// by more than step (sleep_linear dt) since `last`.
+Json f_support_moving(In in, const std::string& p) {
+  const V now = support_point(vec_at(in, "p", p), mat_at(in, "R", p), vec_at(in, "local", p));
+  return Json{{"now", to_json(now)}, {"moving", support_moving(now, vec_at(in, "last", p), q16_at(in, "step", p))}};
+}
 
 // eq 111 through the engine's correct_manifold_point: one point of a pair
 // pushed out of its residual depth; a.v, a.w (b's) are the displacement (m)
@@ -615,6 +621,10 @@ const std::vector<Formula>& formulas() {
        {108},
        "max_abs((p + R * local) - rest) > distance",
        f_support_moved},
+      {"support_moving",
+       {108},
+       "now = p + R * local; moving = max_abs(now - last) > step (step = sleep_linear * dt)",
+       f_support_moving},
       {"correct_manifold_point",
        {111},
        "d = penetration - dot((a.v + a.w x r1) - (b.v + b.w x r2), n); c = (d - slop) * percent; if c > 0 and "
@@ -894,6 +904,13 @@ std::vector<Case> cases_for(const std::string& fn, Rng& rng) {
       const V moved = p0 + V{rng.q16(-0.01, 0.01), rng.q16(-0.01, 0.01), rng.q16(-0.01, 0.01)};
       in = {{"p", to_json(k % 3 == 0 ? p0 : moved)}, {"R", to_json(rotation_matrix(q))}, {"local", to_json(local)},
             {"rest", to_json(rest)}, {"distance", to_json(P.wake_support_distance)}};
+    } else if (fn == "support_moving") {
+      const Qt q = rng.unit_quat();
+      const V local = rng.vec(-1, 1), p0 = rng.vec(-10, 10);
+      const V last = p0 + rotation_matrix(q) * local;
+      const V moved = p0 + V{rng.q16(-0.002, 0.002), rng.q16(-0.002, 0.002), rng.q16(-0.002, 0.002)};
+      in = {{"p", to_json(k % 3 == 0 ? p0 : moved)}, {"R", to_json(rotation_matrix(q))}, {"local", to_json(local)},
+            {"last", to_json(last)}, {"step", to_json(P.sleep_linear * P.dt)}};
     } else if (fn == "correct_manifold_point") {
       // A resting pair: b's side immovable a third of the time (a support
       // pair's lower side), displacements of millimetres, depths -1..+30 mm.

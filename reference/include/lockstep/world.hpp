@@ -161,7 +161,7 @@ class World {
   std::vector<CachedImpulse> warm_;
   // eq 108: per sleeping body, the dynamic bodies it rested on when it fell
   // asleep (at most kMaxRests, in contact order) and their support points.
-  struct Rest { int body; Vec3<T> local, rest; };
+  struct Rest { int body; Vec3<T> local, rest, last; };  // eq 108: last, where the point was at the frame's start
   static constexpr int kMaxRests = 4;
   std::vector<std::vector<Rest>> rests_;
   std::vector<int> support_;          // per body: index of its first support contact, -1 if none

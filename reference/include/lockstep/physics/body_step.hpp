@@ -122,4 +122,20 @@ LS_HD bool support_moved(const Vec3<T>& p, const Mat3<T>& R, const Vec3<T>& loca
   return max_abs((p + R * local) - rest) > distance;
 }
 
+// Eq 108, its speed: the sleeper also keeps where the support point was at
+// the last frame's start (`last`, updated every frame, `rest` when it fell
+// asleep); it wakes when an awake supporter has carried the point by more
+// than `step` = sleep_linear dt on any axis in one frame: the supporter
+// moves faster than a body riding on it may sleep (78). A box shoved 4.9 mm
+// from under a sleeper (at 0.07 m/s) left it asleep where one shoved 6.9 mm
+// woke it (AgreementProp seed 7083). Returns p + R local, the new `last`.
+template <class T>
+LS_HD Vec3<T> support_point(const Vec3<T>& p, const Mat3<T>& R, const Vec3<T>& local) {
+  return p + R * local;
+}
+template <class T>
+LS_HD bool support_moving(const Vec3<T>& now, const Vec3<T>& last, const T& step) {
+  return max_abs(now - last) > step;
+}
+
 }  // namespace lockstep
