@@ -182,6 +182,43 @@ void pulled_support_wakes_the_sleeper() {
 TEST(SupportWake, PulledSupportWakesTheSleeperFixed) { pulled_support_wakes_the_sleeper<Q16>(); }
 TEST(SupportWake, PulledSupportWakesTheSleeperDouble) { pulled_support_wakes_the_sleeper<double>(); }
 
+// Eq 108's speed: the bottom cube of a sleeping two-cube stack is shoved at
+// 0.4 m/s; friction stops it after about 3 mm, short of
+// wake_support_distance (5 mm), so the distance alone never woke the top
+// cube and it slept on while its support slid from under it (AgreementProp
+// seed 7083: 4.9 mm at 0.07 m/s). Carried 2 mm in the shove's first frame,
+// more than sleep_linear dt (0.83 mm), the top cube wakes in the next frame,
+// rides along, and sleeps again on the cube, with no gap.
+template <class T>
+void nudged_support_wakes_the_sleeper() {
+  Scene s;
+  for (int i = 0; i < 2; ++i) {
+    BodyDesc b;
+    b.position = {0, 0.5 + i, 0};
+    s.bodies.push_back(b);
+  }
+  World<T> w(s);
+  while (!w.all_asleep() && w.frame() < 600) w.step();
+  ASSERT_TRUE(w.all_asleep());
+  const double x0 = d(w.body(0).p.x);
+  w.set_velocity(0, Vec3<T>{Num<T>::from_double(0.4), T{}, T{}}, Vec3<T>{});
+  const int shoved = w.frame();
+  int woke = -1;
+  for (int f = 0; f < 300; ++f) {
+    w.step();
+    if (woke < 0 && !w.body(1).asleep) woke = w.frame();
+    ASSERT_LE(worst_sleeping_gap(w, 1.0), 0.01) << "frame " << w.frame();
+  }
+  EXPECT_LT(d(w.body(0).p.x) - x0, 0.005) << "the shove carried the support past wake_support_distance";
+  EXPECT_GT(d(w.body(0).p.x) - x0, 0.002);
+  ASSERT_GT(woke, shoved) << "the top cube slept on while its support slid 2-5 mm";
+  EXPECT_LE(woke, shoved + 2);
+  EXPECT_NEAR(d(w.body(1).p.y), 1.5, 0.005);
+  EXPECT_TRUE(w.all_asleep());
+}
+TEST(SupportWake, NudgedSupportWakesTheSleeperFixed) { nudged_support_wakes_the_sleeper<Q16>(); }
+TEST(SupportWake, NudgedSupportWakesTheSleeperDouble) { nudged_support_wakes_the_sleeper<double>(); }
+
 TEST(StackingProp, PerturbedColumnsStandAndSleepOnFixed) {
   ::lockstep_test::check_prop([] { check_column<Q16>(*column_gen()); }, kStackCases);
 }
