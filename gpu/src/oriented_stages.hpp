@@ -75,10 +75,9 @@ struct SupportWakeK {
       const bool awake = is_awake(ro(b.flags + s)) || (s < i && ro(in + s) != 0);
       if (!awake) continue;
       const Mat3<float> R = rotation_matrix(quat(ro(b.rot + s)));
-      const Vec3<float> ps = xyz(ro(b.pos + s)), local = xyz(ro(rests.local + kMaxRests * i + r));
-      if (support_moved(ps, R, local, xyz(ro(rests.rest + kMaxRests * i + r)), sc.P.wake_support_distance) ||
-          support_moving(support_point(ps, R, local), xyz(ro(rests.last + kMaxRests * i + r)),
-                         sc.P.sleep_linear * sc.P.dt))  // eq 108
+      const Vec3<float> now = support_point(xyz(ro(b.pos + s)), R, xyz(ro(rests.local + kMaxRests * i + r)));
+      if (support_moved(now, xyz(ro(rests.rest + kMaxRests * i + r)), sc.P.wake_support_distance) ||
+          support_moved(now, xyz(ro(rests.last + kMaxRests * i + r)), sc.P.sleep_linear * sc.P.dt))  // eq 108
         woke = 1;
     }
     out[i] = woke;

@@ -46,8 +46,8 @@ void World<T>::wake_unsupported() {
     for (Rest& r : rests_[i]) {
       const Body<T>& s = bodies_[static_cast<std::size_t>(r.body)];
       const Vec3<T> now = support_point(s.p, s.R, r.local);
-      woke = woke || (s.awake() && (support_moved(s.p, s.R, r.local, r.rest, P_.wake_support_distance) ||
-                                    support_moving(now, r.last, P_.sleep_linear * P_.dt)));
+      woke = woke || (s.awake() && (support_moved(now, r.rest, P_.wake_support_distance) ||
+                                    support_moved(now, r.last, P_.sleep_linear * P_.dt)));
       r.last = now;
     }
     if (woke) {

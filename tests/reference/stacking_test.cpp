@@ -152,11 +152,9 @@ void check_column_gpu(const Column& c) {
   check_run(w, c);
 }
 
-// Eq 108: a stack of two asleep; the bottom cube is pushed out (the API's
-// set_velocity wakes it). The top cube wakes once its support point has moved
-// wake_support_distance, falls, and never sleeps over a gap.
+// Eq 108's tests: a stack of two unit cubes stepped until both sleep.
 template <class T>
-void pulled_support_wakes_the_sleeper() {
+World<T> two_cubes_asleep() {
   Scene s;
   for (int i = 0; i < 2; ++i) {
     BodyDesc b;
@@ -165,15 +163,32 @@ void pulled_support_wakes_the_sleeper() {
   }
   World<T> w(s);
   while (!w.all_asleep() && w.frame() < 600) w.step();
-  ASSERT_TRUE(w.all_asleep());
-  w.set_velocity(0, Vec3<T>{Num<T>::from_int(10), T{}, T{}}, Vec3<T>{});  // a table-cloth pull
-  int woke = -1;
-  for (int f = 0; f < 120; ++f) {
+  return w;
+}
+// Sets the bottom cube moving at v along x (the API's set_velocity wakes it)
+// at frame `shoved`, steps `frames` frames, never lets a cube sleep over a
+// gap, and gives the frame the top cube woke (-1: never).
+template <class T>
+void shove_bottom(World<T>& w, double v, int frames, int& shoved, int& woke) {
+  w.set_velocity(0, Vec3<T>{Num<T>::from_double(v), T{}, T{}}, Vec3<T>{});
+  shoved = w.frame();
+  woke = -1;
+  for (int f = 0; f < frames; ++f) {
     w.step();
     if (woke < 0 && !w.body(1).asleep) woke = w.frame();
     ASSERT_LE(worst_sleeping_gap(w, 1.0), 0.01) << "frame " << w.frame();
   }
-  const int pushed = w.frame() - 120;
+}
+
+// Eq 108: the bottom cube of a sleeping stack is pulled out. The top cube
+// wakes once its support point has moved wake_support_distance, falls, and
+// never sleeps over a gap.
+template <class T>
+void pulled_support_wakes_the_sleeper() {
+  World<T> w = two_cubes_asleep<T>();
+  ASSERT_TRUE(w.all_asleep());
+  int pushed = 0, woke = -1;
+  ASSERT_NO_FATAL_FAILURE(shove_bottom(w, 10.0, 120, pushed, woke));  // a table-cloth pull
   EXPECT_GT(woke, pushed);
   EXPECT_LE(woke, pushed + 2) << "10 m/s moves the support point 5 mm in one frame";
   EXPECT_LT(d(w.body(1).p.y), 1.0) << "the top cube fell once its support left";
@@ -191,24 +206,11 @@ TEST(SupportWake, PulledSupportWakesTheSleeperDouble) { pulled_support_wakes_the
 // rides along, and sleeps again on the cube, with no gap.
 template <class T>
 void nudged_support_wakes_the_sleeper() {
-  Scene s;
-  for (int i = 0; i < 2; ++i) {
-    BodyDesc b;
-    b.position = {0, 0.5 + i, 0};
-    s.bodies.push_back(b);
-  }
-  World<T> w(s);
-  while (!w.all_asleep() && w.frame() < 600) w.step();
+  World<T> w = two_cubes_asleep<T>();
   ASSERT_TRUE(w.all_asleep());
   const double x0 = d(w.body(0).p.x);
-  w.set_velocity(0, Vec3<T>{Num<T>::from_double(0.4), T{}, T{}}, Vec3<T>{});
-  const int shoved = w.frame();
-  int woke = -1;
-  for (int f = 0; f < 300; ++f) {
-    w.step();
-    if (woke < 0 && !w.body(1).asleep) woke = w.frame();
-    ASSERT_LE(worst_sleeping_gap(w, 1.0), 0.01) << "frame " << w.frame();
-  }
+  int shoved = 0, woke = -1;
+  ASSERT_NO_FATAL_FAILURE(shove_bottom(w, 0.4, 300, shoved, woke));
   EXPECT_LT(d(w.body(0).p.x) - x0, 0.005) << "the shove carried the support past wake_support_distance";
   EXPECT_GT(d(w.body(0).p.x) - x0, 0.002);
   ASSERT_GT(woke, shoved) << "the top cube slept on while its support slid 2-5 mm";

@@ -207,14 +207,14 @@ Json f_immovable_tolerance(In in, const std::string& p) {
 }
 // eq 108: has the supporter carried the support point beyond the distance?
 Json f_support_moved(In in, const std::string& p) {
-  return Json{{"moved", support_moved(vec_at(in, "p", p), mat_at(in, "R", p), vec_at(in, "local", p),
-                                      vec_at(in, "rest", p), q16_at(in, "distance", p))}};
+  const V now = support_point(vec_at(in, "p", p), mat_at(in, "R", p), vec_at(in, "local", p));
+  return Json{{"moved", support_moved(now, vec_at(in, "rest", p), q16_at(in, "distance", p))}};
 }
 // eq 108's speed: the support point now (p + R local) and whether it moved
 // by more than step (sleep_linear dt) since `last`.
 Json f_support_moving(In in, const std::string& p) {
   const V now = support_point(vec_at(in, "p", p), mat_at(in, "R", p), vec_at(in, "local", p));
-  return Json{{"now", to_json(now)}, {"moving", support_moving(now, vec_at(in, "last", p), q16_at(in, "step", p))}};
+  return Json{{"now", to_json(now)}, {"moving", support_moved(now, vec_at(in, "last", p), q16_at(in, "step", p))}};
 }
 
 // eq 111 through the engine's correct_manifold_point: one point of a pair

@@ -99,9 +99,9 @@ LS_HD inline void evaluate_formula_case(int kind, const Params<float>& P, const 
     case kFormulaSleep: {
       Vec3<float> v = v3(0), w = v3(3);
       int counter = static_cast<int>(in[10]);
+      // radius in [0, 2] m: both branches of eq 78; in[16] > 0.5: leaning (eq 115)
       const bool asleep = update_sleep(v, w, counter, in[11] > 0.0f, true, in[16] > 0.5f, true, rotation_matrix(q4(6)),
-                                       normalize(v3(12)),
-                                       Num<float>::abs(in[15]), P);  // radius in [0, 2] m: both branches of eq 78; in[16] > 0.5: leaning (eq 115)
+                                       normalize(v3(12)), Num<float>::abs(in[15]), P);
       put3(0, v); put3(3, w);
       out[6] = static_cast<float>(counter);
       out[7] = asleep ? 1.0f : 0.0f;

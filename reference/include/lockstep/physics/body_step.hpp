@@ -113,29 +113,22 @@ LS_HD bool wake_test(const Vec3<T>& va, bool a_asleep, const Vec3<T>& vb, bool b
 // Eq 108: has a supporter moved under a sleeper? When a body falls asleep
 // (eq 80) it records, for each dynamic body it rests on, the support point in
 // that body's frame (`local`, from the touching contact's point) and where
-// that point was (`rest` = p + R local at that moment). While the supporter is
-// awake, the point it now carries is p + R local; the sleeper wakes when that
-// point has moved by more than wake_support_distance on any axis.
-template <class T>
-LS_HD bool support_moved(const Vec3<T>& p, const Mat3<T>& R, const Vec3<T>& local, const Vec3<T>& rest,
-                         const T& distance) {
-  return max_abs((p + R * local) - rest) > distance;
-}
-
-// Eq 108, its speed: the sleeper also keeps where the support point was at
-// the last frame's start (`last`, updated every frame, `rest` when it fell
-// asleep); it wakes when an awake supporter has carried the point by more
-// than `step` = sleep_linear dt on any axis in one frame: the supporter
+// that point was (`rest` = support_point at that moment). While the supporter
+// is awake, the point it now carries is `now` = support_point(p, R, local);
+// the sleeper wakes when that point has moved from `rest` by more than
+// wake_support_distance on any axis, or (eq 108's speed) from `last`, where it
+// was at the last frame's start, by more than sleep_linear dt: the supporter
 // moves faster than a body riding on it may sleep (78). A box shoved 4.9 mm
 // from under a sleeper (at 0.07 m/s) left it asleep where one shoved 6.9 mm
-// woke it (AgreementProp seed 7083). Returns p + R local, the new `last`.
+// woke it (AgreementProp seed 7083). `now` becomes the record's `last`.
 template <class T>
 LS_HD Vec3<T> support_point(const Vec3<T>& p, const Mat3<T>& R, const Vec3<T>& local) {
   return p + R * local;
 }
+// Whether `now` is more than `limit` from `from` on any axis.
 template <class T>
-LS_HD bool support_moving(const Vec3<T>& now, const Vec3<T>& last, const T& step) {
-  return max_abs(now - last) > step;
+LS_HD bool support_moved(const Vec3<T>& now, const Vec3<T>& from, const T& limit) {
+  return max_abs(now - from) > limit;
 }
 
 }  // namespace lockstep
