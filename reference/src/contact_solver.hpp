@@ -99,6 +99,21 @@ void World<T>::solve_contacts() {
   // neither side's velocity has changed since, visiting it again would apply
   // none again: it is skipped (the same bits), counted as the visit it
   // repeats. velocity_version_[i] counts the visits that changed body i.
+  // Eq 99's split of each manifold visit, once for the whole solve: the
+  // sides' masses and the points' k_n do not change in it (solve_manifold_rows
+  // would form the same value at every pass). A visit whose first point has
+  // k_n = 0 (both sides immovable) is skipped by the solve and has none.
+  visit_split_.assign(visits.size(), one);
+  for (std::size_t vi = 0; vi < visits.size(); ++vi) {
+    const std::size_t s = visits[vi].first, e = visits[vi].second;
+    if (!(contacts_[s].b < 0 || oriented) || !(contacts_[s].state.k_n > T{})) continue;
+    const T inv_a = solver::view_of(bodies_, contacts_[s].a).inv_mass;
+    const T inv_b = solver::view_of(bodies_, contacts_[s].b).inv_mass;
+    T o{};
+    for (std::size_t k = s; k < e; ++k) o += split_share(inv_a, inv_b, contacts_[k].state.k_n);
+    visit_split_[vi] = manifold_split(o, static_cast<int>(e - s));
+    check_faults(contacts_[s].a, "contact preparation");
+  }
   velocity_version_.assign(bodies_.size(), 0u);
   const bool skip_converged = oriented && P_.converged_speed > T{};  // eq 113
   idle_visits_.assign(visits.size(), IdleVisit{});
@@ -151,7 +166,7 @@ void World<T>::solve_contacts() {
         auto store = [&](int k, const ContactState<T>& st) { contacts_[s + static_cast<std::size_t>(k)].state = st; };
         auto row = [&](int k) -> const NormalRow<T>& { return contacts_[s + static_cast<std::size_t>(k)].row; };
         solve_manifold_rows<solver::kManifoldPoints>(A, B, point, row, load, store, fx.friction, fx.gravity, one, P_,
-                                                     counts);
+                                                     counts, &visit_split_[at]);
       } else {
         Contact<T>& c = contacts_[s];
         solve_contact(A, c.r1, B, c.r2, c.n, c.penetration, c.state, fx.friction, fx.gravity, one, P_, counts);

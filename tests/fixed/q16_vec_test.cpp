@@ -301,6 +301,35 @@ LS_PROP(Q16VecProp, DirectionOfIsLengthThenNormalize) {
   RC_ASSERT(got_flags == want_flags);
 }
 
+// longer_than (eq 95's cone test without the root): the same answer as
+// length(a) > limit and as the exact round(sqrt(sum R^2)) > L, with no status
+// flag, for any vector and any limit below INT32_MAX raw, limits next to the
+// length (one raw unit either side) and negative limits; at INT32_MAX, where
+// length(a) itself clamps with kQ16Overflow, it says true.
+LS_PROP(Q16VecProp, LongerThanIsLengthAbove) {
+  const V3 a = *rc::gen::weightedOneOf<V3>({{6, vec_any()},
+                                            {2, vec_length_in(-8, 0)},
+                                            {1, rc::gen::just(V3{})},
+                                            {1, rc::gen::just(v3(kMin32, kMax32, kMin32))}});
+  const Int exact = lt::isqrt_round(lt::raw_sum_sq(a));  // round(sqrt(S)), unclamped
+  const std::int64_t near = std::min<std::int64_t>(static_cast<std::int64_t>(exact), kMax32 - 1);
+  const auto offset = *rc::gen::inRange<std::int64_t>(-1, 2);
+  const std::int32_t l = *rc::gen::weightedOneOf<std::int32_t>(
+      {{4, rc::gen::inRange<std::int32_t>(kMin32, kMax32)},
+       {4, rc::gen::just(static_cast<std::int32_t>(std::clamp<std::int64_t>(near + offset, kMin32, kMax32 - 1)))},
+       {1, rc::gen::just(kMax32)}});
+  lockstep::q16_clear_status();
+  const bool got = lockstep::longer_than(a, R(l));
+  RC_ASSERT(lockstep::q16_take_status() == 0u);
+  if (l == kMax32) {
+    RC_ASSERT(got == (exact > Int(kMax32)));
+    return;
+  }
+  RC_ASSERT(got == (exact > Int(l)));
+  RC_ASSERT(got == (lockstep::length(a) > R(l)));
+  lockstep::q16_clear_status();
+}
+
 LS_PROP(Q16VecProp, QuatNormalizeRule) {
   const Q4 q = *rc::gen::weightedOneOf<Q4>({{8, quat_any()}, {2, rc::gen::just(Q4{})}});
   assert_same(run([&] { return lockstep::normalize(q); }), lt::ref_normalize(q));

@@ -203,6 +203,7 @@ class World {
   std::vector<std::pair<std::size_t, std::size_t>> visits_;
   std::vector<unsigned> velocity_version_;
   std::vector<IdleVisit> idle_visits_;
+  std::vector<T> visit_split_;  // per visit: eq 99's split (manifold_split), formed once per solve
   bool oriented_correction_ = false;  // eq 110's penetration (less what the stage moved) for pairs too
   T ground_y_{}, ground_e_{}, ground_mu_{};
   std::vector<T> sdf_e_, sdf_mu_;

@@ -115,6 +115,20 @@ inline Q16 length(const Vec3<Q16>& a) {
   const std::uint64_t r = q16detail::isqrt_round(raw_length_sq(a));
   return Q16::from_raw(q16detail::saturate(static_cast<std::int64_t>(r)));
 }
+// length(a) > limit, the same answer, without the root (and so without
+// length's status flag, which the caller raises by forming length(a) where
+// this says true): length(a) is round(sqrt(S)), S = sum R_i^2 exact, clamped
+// to INT32_MAX. For a limit of raw L >= 0, round(sqrt(S)) > L exactly when
+// sqrt(S) >= L + 1/2 (sqrt(S) is never a half-integer), i.e. S >= L^2 + L +
+// 1/4, i.e. (S an integer) S > L (L + 1), exact in uint64 (L (L + 1) < 2^62).
+// Where it is false, sqrt(S) < 2^31 and length(a) raises nothing. A negative
+// limit is exceeded by every length. (At L = INT32_MAX, where length(a)
+// itself overflows to INT32_MAX, it says true.)
+inline bool longer_than(const Vec3<Q16>& a, const Q16& limit) {
+  if (limit.raw() < 0) return true;
+  const auto l = static_cast<std::uint64_t>(limit.raw());
+  return raw_length_sq(a) > l * (l + 1);
+}
 // a / |a| with L = floor(sqrt(sum R_i^2)) and n_i = floor(R_i * 2^16 / L): two
 // floors; |n_i - R_i/sqrt(sum R^2)| < 1 + 2^16/L ulp, so each component is
 // within 2 ulp of the exact unit vector for |a| >= 1 (measured worst 1.97) and

@@ -88,6 +88,13 @@ template <class T> LS_HD Vec3<T> normalize(const Vec3<T>& a) {
   return {a.x / len, a.y / len, a.z / len};
 }
 
+// Whether |a| > limit, i.e. length(a) > limit, as written; Q16 decides it
+// from the exact sum of squares without the square root.
+template <class T> LS_HD bool longer_than(const Vec3<T>& a, const T& limit) {
+  LOCKSTEP_NOT_Q16(T);
+  return length(a) > limit;
+}
+
 // Whether |a| > 0, and then unit = normalize(a) (unit untouched otherwise):
 // the two as written, which Q16 forms from one square root.
 template <class T> LS_HD bool direction_of(const Vec3<T>& a, Vec3<T>& unit) {

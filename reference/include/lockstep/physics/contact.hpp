@@ -98,8 +98,8 @@ LS_HD_INLINE T contact_target_velocity(const T& penetration, const T& e, const T
 // (limit = mu J_n), unchanged inside it.
 template <class T>
 LS_HD_INLINE Vec3<T> clamp_to_cone(const Vec3<T>& J, const T& limit) {
-  const T mag = length(J);
-  return mag > limit ? J * (limit / mag) : J;
+  if (!longer_than(J, limit)) return J;  // |J| <= limit (Q16: without the root)
+  return J * (limit / length(J));
 }
 template <class T>
 LS_HD_INLINE Vec3<T> accumulate_friction_impulse(Vec3<T>& accumulated, const Vec3<T>& v_tan, const T& k_t, const T& mu,

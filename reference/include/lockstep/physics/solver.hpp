@@ -223,6 +223,22 @@ LS_HD_INLINE T normal_manifold_step(const BodyView<T>& A, const BodyView<T>& B, 
   return manifold_step_length(a, b);
 }
 
+// Eq 99's split of a manifold's effective masses: max(1, o) for a manifold of
+// count > 1 points, o = sum_k split_share(m1^-1, m2^-1, k_n,k) summed in point
+// order (1 for a unit cube's 4 bottom corners, 2 for 8 sunken corners); 1 for
+// a single point. It depends on the sides' masses and the points' k_n alone,
+// which the solve does not change: World<T> forms it once per frame, the GPU
+// engine at each visit (the same values).
+template <class T>
+LS_HD_INLINE T split_share(const T& inv_mass_a, const T& inv_mass_b, const T& k_n) {
+  return (inv_mass_a + inv_mass_b) / k_n;
+}
+template <class T>
+LS_HD_INLINE T manifold_split(const T& o, int count) {
+  const T one = Num<T>::from_int(1);
+  return (count > 1 && o > one) ? o : one;
+}
+
 // Host builds keep what a manifold visit has formed once and would form again:
 // its points and their solver states (read once per visit), eq 87's velocity
 // changes of each point's impulse (measured by manifold_step, then applied
@@ -320,10 +336,13 @@ LS_HD_INLINE T manifold_step(const BodyView<T>& A, const BodyView<T>& B, const P
 // split: 1 is World<T>'s sequential visit; the GPU engine's Jacobi visits of
 // a pair of active bodies pass their mass splitting (docs/GPU.md), as
 // solve_contact's k_scale.
+// `split_given`: the visit's manifold_split, formed before the solve (World<T>,
+// once per frame); nullptr: formed here from the points (the same value).
 template <int N, class T, class Point, class Row, class Load, class Store>
 LS_HD void solve_manifold_rows(BodyView<T>& A, BodyView<T>& B, const Point& point_at, const Row& row_at,
                                const Load& load_at, const Store& store_at, bool friction, bool gravity,
-                               const T& k_scale, const Params<T>& P, SolveCounts& counts) {
+                               const T& k_scale, const Params<T>& P, SolveCounts& counts,
+                               const T* split_given = nullptr) {
   const T one = Num<T>::from_int(1);
   const T half = Num<T>::from_double(0.5);  // eq 113: a step shortened below it is partial progress
   constexpr int M = kManifoldCache ? N : 1;
@@ -374,10 +393,10 @@ LS_HD void solve_manifold_rows(BodyView<T>& A, BodyView<T>& B, const Point& poin
       if (count == 0 && !(k_n > T{})) return;  // both sides immovable
       ++count;
       end = k + 1;
-      o += (A.inv_mass + B.inv_mass) / k_n;
+      if (split_given == nullptr) o += split_share(A.inv_mass, B.inv_mass, k_n);
     }
     if (count == 0) return;
-    if (count > 1 && o > one) split = o;
+    split = split_given != nullptr ? *split_given : manifold_split(o, count);
     if (!(k_scale == one)) split = split * k_scale;
   }
   T dj[N], res[N];
