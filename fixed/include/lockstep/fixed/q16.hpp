@@ -144,6 +144,7 @@ class Q16 {
   }
   // eq 22: R = round(x * 2^16), to nearest, ties to even. NaN -> 0 with
   // kQ16Invalid; out of range (or +-inf) -> clamped with kQ16Overflow.
+  // Inline: a constant (0.5, 1/64) folds at compile time.
   static Q16 from_double(double x);
 
   constexpr std::int32_t raw() const { return raw_; }
@@ -203,6 +204,27 @@ class Q16 {
  private:
   std::int32_t raw_ = 0;
 };
+
+inline Q16 Q16::from_double(double x) {
+  if (std::isnan(x)) {
+    q16detail::raise(kQ16Invalid);
+    return Q16{};
+  }
+  // x * 2^16 is exact (a power-of-two scale) unless it overflows to inf.
+  const double scaled = x * 65536.0;
+  if (scaled >= 2147483647.5) return from_raw(q16detail::saturate(q16detail::kMax + 1));
+  if (scaled < -2147483648.5) return from_raw(q16detail::saturate(q16detail::kMin - 1));
+  // Round to nearest, ties to even, with exact double operations only.
+  const double fl = std::floor(scaled);
+  // Exact, except for -0.5 < scaled < 0: there it is 1 + scaled, which may
+  // round, but never below 0.5, so r becomes fl + 1 = 0 (frac > 0.5, or
+  // frac == 0.5 with fl = -1 odd): the correct result. Tested in
+  // tests/fixed/q16_test.cpp (FromDoubleLiterals, FromDouble).
+  const double frac = scaled - fl;
+  auto r = static_cast<std::int64_t>(fl);
+  if (frac > 0.5 || (frac == 0.5 && (r & 1) != 0)) ++r;
+  return from_raw(q16detail::saturate(r));
+}
 
 // |a|; abs(INT32_MIN raw) clamps to INT32_MAX with kQ16Overflow.
 inline Q16 abs(Q16 a) { return a.raw() < 0 ? -a : a; }

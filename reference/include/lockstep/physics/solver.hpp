@@ -4,6 +4,7 @@
 // (gpu/src/stages.hpp) call these same functions for one contact or one
 // manifold; they differ in the order of visits, not in formulas.
 #pragma once
+#include <new>
 #include <type_traits>
 
 #include "lockstep/math/vec.hpp"
@@ -251,6 +252,26 @@ inline constexpr bool kManifoldCache = false;
 inline constexpr bool kManifoldCache = true;
 #endif
 
+// A manifold visit's scratch of M values of V, each written before it is
+// read. Host builds leave it unfilled: the zero fill of the visit's 2.7 KB of
+// scratch (Vec3's and Q16's members start at 0) was 5 % of the solve. V, an
+// aggregate of trivially copyable numbers, is an implicit-lifetime type, so
+// the storage holds a V once one is assigned to it (C++20 [intro.object]).
+// Device builds and number types that are not trivially copyable (mp): a
+// plain array.
+template <class V, int M, bool kUnfilled = kManifoldCache && std::is_trivially_copyable_v<V>>
+struct Scratch {
+  V v[M];
+  LS_HD_INLINE V* data() { return v; }
+  LS_HD_INLINE V& operator[](int k) { return v[k]; }
+};
+template <class V, int M>
+struct Scratch<V, M, true> {
+  alignas(V) unsigned char bytes[sizeof(V) * M];
+  V* data() { return std::launder(reinterpret_cast<V*>(bytes)); }
+  V& operator[](int k) { return data()[k]; }
+};
+
 // Eq 99's step length for the impulses that a manifold's points propose
 // together: `impulse(k, n)` is point k's proposed impulse (0: none) and
 // `pull(k, r1, r2, n)` the velocity change it asks for, both in world axes;
@@ -347,10 +368,10 @@ LS_HD void solve_manifold_rows(BodyView<T>& A, BodyView<T>& B, const Point& poin
   const T half = Num<T>::from_double(0.5);  // eq 113: a step shortened below it is partial progress
   constexpr int M = kManifoldCache ? N : 1;
   // kManifoldCache: the points and states, read once (the first loop below).
-  Vec3<T> pr1[M], pr2[M], pn[M];
-  T ppen[M];
-  ContactState<T> pst[M];
-  NormalRow<T> prow[M];
+  Scratch<Vec3<T>, M> pr1, pr2, pn;
+  Scratch<T, M> ppen;
+  Scratch<ContactState<T>, M> pst;
+  Scratch<NormalRow<T>, M> prow;
   bool pok[M];
   auto point = [&](int k, Vec3<T>& r1, Vec3<T>& r2, Vec3<T>& n, T& penetration) {
     if constexpr (kManifoldCache) {
@@ -399,7 +420,7 @@ LS_HD void solve_manifold_rows(BodyView<T>& A, BodyView<T>& B, const Point& poin
     split = split_given != nullptr ? *split_given : manifold_split(o, count);
     if (!(k_scale == one)) split = split * k_scale;
   }
-  T dj[N], res[N];
+  Scratch<T, N> dj, res;
 #if defined(__CUDA_ARCH__)
 #pragma unroll 1
 #endif
@@ -420,12 +441,13 @@ LS_HD void solve_manifold_rows(BodyView<T>& A, BodyView<T>& B, const Point& poin
   }
   // kManifoldCache: eq 87's velocity changes as manifold_step formed them,
   // applied as they are when the step is 1 (the impulses unchanged).
-  ImpulseDelta<T> delta[M];
+  Scratch<ImpulseDelta<T>, M> delta;
   bool formed[M];
-  Vec3<T> impulse[M];
+  Scratch<Vec3<T>, M> impulse;
   bool cached = false;
   if (count > 1) {
-    const T alpha = normal_manifold_step<N>(A, B, point, row, dj, res, end, kManifoldCache ? delta : nullptr,
+    const T alpha = normal_manifold_step<N>(A, B, point, row, dj.data(), res.data(), end,
+                                            kManifoldCache ? delta.data() : nullptr,
                                             kManifoldCache ? formed : nullptr);  // eqs 99, 114
     if (alpha < one) {
       if (alpha < half) ++counts.shortened_steps;  // eq 113: less than half the proposals' change
@@ -475,8 +497,8 @@ LS_HD void solve_manifold_rows(BodyView<T>& A, BodyView<T>& B, const Point& poin
     }
   }
   const BodyView<T> A1 = A, B1 = B;
-  Vec3<T> dJ[N];
-  Vec3<T> vrel[M];  // kManifoldCache: eq 48 at each point, for the step's pull
+  Scratch<Vec3<T>, N> dJ;
+  Scratch<Vec3<T>, M> vrel;  // kManifoldCache: eq 48 at each point, for the step's pull
 #if defined(__CUDA_ARCH__)
 #pragma unroll 1
 #endif
@@ -504,7 +526,8 @@ LS_HD void solve_manifold_rows(BodyView<T>& A, BodyView<T>& B, const Point& poin
           if constexpr (kManifoldCache) return -vrel[k];  // pull is only asked of a point with an impulse
           else return -relative_velocity(A1, r1, B1, r2);
         },  // eq 99
-        kManifoldCache ? delta : nullptr, kManifoldCache ? formed : nullptr, kManifoldCache ? impulse : nullptr,
+        kManifoldCache ? delta.data() : nullptr, kManifoldCache ? formed : nullptr,
+        kManifoldCache ? impulse.data() : nullptr,
         end);
     if (alpha < one) {
       if (alpha < half) ++counts.shortened_steps;  // eq 113: less than half the proposals' change
