@@ -94,11 +94,6 @@ void World<T>::solve_contacts() {
     visits.emplace_back(s, e);
     s = e;
   }
-  // A visit is a function of its two sides' velocities and its contacts'
-  // states alone; one that applied no impulse changed neither, so while
-  // neither side's velocity has changed since, visiting it again would apply
-  // none again: it is skipped (the same bits), counted as the visit it
-  // repeats. velocity_version_[i] counts the visits that changed body i.
   // Eq 99's split of each manifold visit, once for the whole solve: the
   // sides' masses and the points' k_n do not change in it (solve_manifold_rows
   // would form the same value at every pass). A visit whose first point has
@@ -114,6 +109,11 @@ void World<T>::solve_contacts() {
     visit_split_[vi] = manifold_split(o, static_cast<int>(e - s));
     check_faults(contacts_[s].a, "contact preparation");
   }
+  // A visit is a function of its two sides' velocities and its contacts'
+  // states alone; one that applied no impulse changed neither, so while
+  // neither side's velocity has changed since, visiting it again would apply
+  // none again: it is skipped (the same bits), counted as the visit it
+  // repeats. velocity_version_[i] counts the visits that changed body i.
   velocity_version_.assign(bodies_.size(), 0u);
   const bool skip_converged = oriented && P_.converged_speed > T{};  // eq 113
   idle_visits_.assign(visits.size(), IdleVisit{});
