@@ -139,8 +139,8 @@ O margin(const O& s) { return s + O(0.05) * abs(s) + O(0.0005); }
 // with |s|, |t| <= 1 + slack_st and |x[a]| <= h[a] + slack on the reference
 // face's two in-plane axes: a linear program in (s, t), solved by visiting
 // every vertex of its 8 half-planes. -inf (as -1e300) when empty.
-// eq 104's clip margin (m): side planes moved out by 2^-12 m, kept points clamped onto the face.
-const O kClipMargin = O(1.0 / 4096.0);
+// eq 104's clip margin (m): side planes moved out by 2^-10 m, kept points clamped onto the face.
+const O kClipMargin = O(1.0 / 1024.0);
 
 O max_depth(const Box& ref, int k, const O& sigma, const Box& inc, int f, const O& sf, const O& slack) {
   const int u = f == 0 ? 1 : 0, v = f == 2 ? 1 : 2;

@@ -9,6 +9,7 @@
 
 #include "engine_types.hpp"
 #include "lockstep/physics/aabb.hpp"
+#include "lockstep/physics/body_step.hpp"
 #include "lockstep/physics/contact.hpp"
 #include "lockstep/physics/integrate.hpp"
 #include "lockstep/physics/sdf.hpp"
@@ -645,6 +646,21 @@ TEST(SleepTest, Eq78To80Stages) {
   EXPECT_EQ(sleep_stage(9, 10, 30), SleepStage::kAwake);
   EXPECT_EQ(sleep_stage(10, 10, 30), SleepStage::kDrowsy);
   EXPECT_EQ(sleep_stage(30, 10, 30), SleepStage::kAsleep);
+}
+// eq 79 in update_sleep: a drowsy body is slowed when it is over its
+// support (112) or leans (115, held: not tipping); one that is neither may be
+// tipping and keeps its speed (its counter still counts).
+TEST(SleepTest, Eq79SlowsOverOrLeaningNotTipping) {
+  struct Case { bool over, leaning, slowed; };
+  for (const Case c : {Case{true, false, true}, Case{false, true, true}, Case{true, true, true}, Case{false, false, false}}) {
+    V v{0.02, 0, 0}, w{0, 0.01, 0};
+    int counter = P.drowsy_frames - 1;  // this frame's candidate makes it drowsy
+    EXPECT_FALSE(update_sleep(v, w, counter, true, c.over, c.leaning, false, identity(), V{0, 1, 0}, 0.87, P));
+    EXPECT_EQ(counter, P.drowsy_frames);
+    const double f = c.slowed ? P.drowsy_damping : 1.0;
+    EXPECT_EQ(v.x, 0.02 * f) << "over " << c.over << " leaning " << c.leaning;
+    EXPECT_EQ(w.y, 0.01 * f) << "over " << c.over << " leaning " << c.leaning;
+  }
 }
 // eq 81: wake conditions.
 TEST(SleepTest, Eq81Wake) {

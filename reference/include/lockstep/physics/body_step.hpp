@@ -69,8 +69,8 @@ LS_HD void integrate_pose(Vec3<T>& p, Quat<T>& q, const Vec3<T>& v, const Vec3<T
 // grows past the sleep speeds first; one that stays slow is held by what eq
 // 112 does not see, as a box resting on three points of a curved bowl).
 // `leaning`: it leans (eq 115) and rests tilted on what holds it: it counts
-// as supported, its alignment is not asked, and, as one not over its support
-// contacts, it is not slowed (79).
+// as supported, its alignment is not asked, and it is slowed (79) once drowsy
+// (held, it is not tipping; a leaning cube left to creep woke the cubes on it).
 // Returns true when it falls asleep (v and w are then zeroed, eq 80).
 template <class T>
 LS_HD bool update_sleep(Vec3<T>& v, Vec3<T>& w, int& counter, bool supported, bool over, bool leaning,
@@ -93,7 +93,7 @@ LS_HD bool update_sleep(Vec3<T>& v, Vec3<T>& w, int& counter, bool supported, bo
     case SleepStage::kAwake:
       return false;
   }
-  if (over && !leaning) {  // eqs 112, 115: a body not over its support contacts is not slowed (it may be tipping)
+  if (over || leaning) {  // eqs 79, 112, 115: one neither over its support nor leaning may tip: not slowed
     v = v * P.drowsy_damping;
     w = w * P.drowsy_damping;
   }

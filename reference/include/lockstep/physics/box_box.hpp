@@ -38,10 +38,10 @@ struct BoxBoxTolerances {
   T rel;       // 0.05: a face axis wins unless the other separates by 5 % more
   T abs_;      // 0.0005 m: ... and by half a millimetre more
   T edge_min;  // 1/64: edge pairs closer to parallel than |a x b| = 1/64 give no axis
-  T clip_margin;  // 2^-12 m: eq 104's side planes are moved out by this for the clip
+  T clip_margin;  // 2^-10 m: eq 104's side planes are moved out by this for the clip
   static LS_HD BoxBoxTolerances make() {
     return {Num<T>::from_double(0.05), Num<T>::from_double(0.0005), Num<T>::from_double(1.0 / 64.0),
-            Num<T>::from_double(1.0 / 4096.0)};
+            Num<T>::from_double(1.0 / 1024.0)};
   }
 };
 
