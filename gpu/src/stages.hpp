@@ -778,10 +778,13 @@ struct ContactsK {
     Vec3<float> arms[kMaxSupportPoints];   // eq 112: the lever arms of its support contacts
     int n_arms = 0;                        // kMaxSupportPoints + 1: too many to look at
     bool loaded = false;                   // eq 112: it touches (within slop) something not a support
-    auto add_support = [&](int who, const Vec3<float>& n, float penetration, const Vec3<float>& point) {
+    // v_n: the contact's closing speed (contact_closing_speed, the lower body first).
+    auto add_support = [&](int who, const Vec3<float>& n, float penetration, const Vec3<float>& point, float v_n) {
       support_sum += n * support_weight(penetration, fade);  // eq 98
-      if (n_arms < kMaxSupportPoints) arms[n_arms] = point - p;
-      if (n_arms <= kMaxSupportPoints) ++n_arms;
+      if (!support_impact(penetration, v_n, sc.P)) {  // eq 112: an impact is not a support point
+        if (n_arms < kMaxSupportPoints) arms[n_arms] = point - p;
+        if (n_arms <= kMaxSupportPoints) ++n_arms;
+      }
       if (!(penetration > -slop)) return;
       const float gap = support_gap(penetration);
       if (support == kNoSupport) {
@@ -808,7 +811,8 @@ struct ContactsK {
         if (!(depth > -itol)) continue;
         ++ground_contacts;
         if (depth > -slop && holds_off_support(up, true, min_up)) loaded = true;  // eq 112
-        if (depth > -fade && up.y >= min_up) add_support(kStaticSupport, up, depth, corner);
+        if (depth > -fade && up.y >= min_up)
+          add_support(kStaticSupport, up, depth, corner, contact_closing_speed(v0, w0, p, corner, up));
         mask |= 1 << c;
         immovable(c, corner - p, up, sc.ground_e, sc.ground_mu, ((prev_mask >> c) & 1) != 0);
       }
@@ -829,7 +833,8 @@ struct ContactsK {
         }
         ++sdf_contacts;
         if (c.penetration > -slop && holds_off_support(c.n, true, min_up)) loaded = true;  // eq 112
-        if (c.penetration > -fade && c.n.y >= min_up) add_support(kStaticSupport, c.n, c.penetration, c.point);
+        if (c.penetration > -fade && c.n.y >= min_up)
+          add_support(kStaticSupport, c.n, c.penetration, c.point, contact_closing_speed(v0, w0, p, c.point, c.n));
         immovable(e, xyz(c1) - p, xyz(c0), mat.x, mat.y, had);
       }
     }
@@ -891,7 +896,10 @@ struct ContactsK {
         SolveCounts here;
         for (int c = 0; c < mf.count; ++c) {
           if (mf.penetration[c] > -slop && holds_off_support(n_i, !j_awake, min_up)) loaded = true;  // eq 112
-          if (mf.penetration[c] > -fade && n_i.y >= min_up) add_support(j, n_i, mf.penetration[c], mf.point[c]);
+          if (mf.penetration[c] > -fade && n_i.y >= min_up)
+            add_support(j, n_i, mf.penetration[c], mf.point[c],
+                        lower ? contact_closing_speed(v0, w0, p, other0.v, other0.w, pj, mf.point[c], mf.n)
+                              : contact_closing_speed(other0.v, other0.w, pj, v0, w0, p, mf.point[c], mf.n));
           const Vec3<float> r1 = mf.point[c] - (lower ? p : pj), r2 = mf.point[c] - (lower ? pj : p);
           ContactState<float> cs =
               prepare_contact(pick(lower, self0, other0), r1, pick(lower, other0, self0), r2, mf.n,
@@ -919,8 +927,11 @@ struct ContactsK {
       if (edges.mate != nullptr) init_edge(edges, d.lists, i, t, j, j_awake, p.y, pj.y);
       if (j_awake && ((directions >> shift) & 255u) < 255u) directions += Counter{1} << shift;
       if (pc.penetration > -slop && holds_off_support(n_i, !j_awake, min_up)) loaded = true;  // eq 112
-      if (pc.penetration > -fade && n_i.y >= min_up) add_support(j, n_i, pc.penetration, pc.point);
       const BodyView<float> other0 = view_of(b, j, b.vel, b.ang);
+      if (pc.penetration > -fade && n_i.y >= min_up)
+        add_support(j, n_i, pc.penetration, pc.point,
+                    lower ? contact_closing_speed(v0, w0, p, other0.v, other0.w, pj, pc.point, pc.n)
+                          : contact_closing_speed(other0.v, other0.w, pj, v0, w0, p, pc.point, pc.n));
       const Vec3<float> r1 = pc.point - (lower ? p : pj), r2 = pc.point - (lower ? pj : p);
       const float e_o = ro(b.half + j).w, mu_o = ro(b.inert + j).w;
       // Body 1 is the lower index (one call for either order: the threads of a

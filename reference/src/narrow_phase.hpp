@@ -166,8 +166,23 @@ void World<T>::narrow_phase() {
   auto add_support = [&](int body, std::size_t ci, const Vec3<T>& n, const T& penetration) {
     const auto i = static_cast<std::size_t>(body);
     support_n_[i] += n * support_weight(penetration, P_.support_fade);
-    if (n_arms[i] < kMaxSupportPoints) support_arms_[i][static_cast<std::size_t>(n_arms[i])] = contacts_[ci].point - bodies_[i].p;
-    if (n_arms[i] <= kMaxSupportPoints) ++n_arms[i];  // kMaxSupportPoints + 1: too many to look at
+    const Contact<T>& cc = contacts_[ci];
+    bool impact = false;  // eq 112: an impact is not a support point
+    if (!(penetration > -P_.slop)) {
+      const Body<T>& A = bodies_[static_cast<std::size_t>(cc.a)];
+      T v_n;
+      if (cc.b >= 0) {
+        const Body<T>& B = bodies_[static_cast<std::size_t>(cc.b)];
+        v_n = contact_closing_speed(A.v, A.w, A.p, B.v, B.w, B.p, cc.point, cc.n);
+      } else {
+        v_n = contact_closing_speed(A.v, A.w, A.p, cc.point, cc.n);
+      }
+      impact = support_impact(penetration, v_n, P_);
+    }
+    if (!impact) {
+      if (n_arms[i] < kMaxSupportPoints) support_arms_[i][static_cast<std::size_t>(n_arms[i])] = contacts_[ci].point - bodies_[i].p;
+      if (n_arms[i] <= kMaxSupportPoints) ++n_arms[i];  // kMaxSupportPoints + 1: too many to look at
+    }
     if (!(penetration > -P_.slop)) return;
     const T gap = support_gap(penetration);
     if (support_[i] < 0) {

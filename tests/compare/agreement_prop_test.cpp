@@ -158,6 +158,73 @@ TEST(AgreementProp, FixedDoubleAndGpuAgreeOnRestAndSleep) {
   }
 }
 
+// AgreementProp seed 7106, as RapidCheck shrank it: a box of 0.72 x 1.22 x
+// 1.28 m (2.75 kg) thrown onto the ground rocks about an edge and falls flat
+// at frame 74, turning at 1.34 rad/s. At that frame's start its landing
+// corners were 2.56 mm up in fixed and 3.00 mm in double, and only fixed's
+// were within support_fade (2.7 mm): eq 112 counted them as support points,
+// so fixed settled the box (eq 72: w x 0.4) and it stopped dead at sleep
+// frame 109, where double rocked it on (Housner's ratio for this block,
+// 0.61) and slept at 125 (tolerance 15). A speculative corner closing faster
+// than rest_speed is an impact, not a support point (support_impact), in
+// every engine: both rock the box on.
+TEST(AgreementCases, RockingBoxFallingFlatSeed7106) {
+  const Scene scene = parse_scene(R"json({
+  "format": "lockstep-scene",
+  "version": 1,
+  "name": "agreement_case",
+  "frames": 480,
+  "pair_contacts": "oriented_box",
+  "effects": {"gravity": true, "damping": true, "ground": true, "contacts": true, "friction": true, "restitution": true, "settling": true, "sleep": true, "sdf": false},
+  "constants": {
+    "dt": 0.01666259765625,
+    "gravity": [0.0, -9.80999755859375, 0.0],
+    "linear_damping": 0.0050048828125,
+    "angular_damping": 0.0200042724609375,
+    "cell_size": 4.0,
+    "slop": 0.001007080078125,
+    "baumgarte": 1.0,
+    "solver_iterations": 8,
+    "contact_tolerance": 0.0099945068359375,
+    "converged_speed": 0.0,
+    "kp": 30.0,
+    "kd": 10.0,
+    "speed_factor_min": 0.5,
+    "speed_factor_max": 2.0,
+    "support_normal_min": 0.6999969482421875,
+    "align_fine": 0.9980010986328125,
+    "align_good": 0.9900054931640625,
+    "align_fair": 0.9499969482421875,
+    "damp_fine": 0.399993896484375,
+    "damp_good": 0.6999969482421875,
+    "damp_fair": 0.850006103515625,
+    "rest_speed": 0.1999969482421875,
+    "restitution_min_speed": 0.5,
+    "settle_speed": 0.3000030517578125,
+    "settle_damping": 0.100006103515625,
+    "sleep_linear": 0.0500030517578125,
+    "sleep_angular": 0.0500030517578125,
+    "sleep_alignment": 0.9900054931640625,
+    "drowsy_frames": 10,
+    "drowsy_damping": 0.5,
+    "sleep_frames": 30,
+    "wake_speed": 0.25,
+    "wake_penetration": 0.0200042724609375,
+    "wake_support_distance": 0.0050048828125
+  },
+  "ground": {"present": true, "height": 0.0, "material": {"restitution": 0.0, "friction": 0.4375}},
+  "bodies": [
+    {"half_extents": [0.5, 0.5, 0.5], "mass": 1.0, "position": [0.0, 0.875, 0.0], "orientation": [1.0, 0.0, 0.0, 0.0], "velocity": [0.0, 0.0, 0.0], "angular_velocity": [0.0, 0.0, 0.0], "material": {"restitution": 0.0, "friction": 0.5}, "static": false, "asleep": false},
+    {"half_extents": [0.359375, 0.609375, 0.640625], "mass": 2.75, "position": [4.0, 1.40625, 0.0], "orientation": [0.8314696123025452, -0.02598342538445454, 0.5555702330196022, 0.017361569781862568], "velocity": [-0.5, 0.375, 0.375], "angular_velocity": [-0.1875, -0.3125, -0.25], "material": {"restitution": 0.0, "friction": 0.59375}, "static": false, "asleep": false}
+  ],
+  "sdfs": []
+})json", "AgreementProp seed 7106");
+  const std::vector<std::string> bad = disagreements(scene, prop_tolerances());
+  std::ostringstream m;
+  for (const std::string& line : bad) m << "\n  " << line;
+  EXPECT_TRUE(bad.empty()) << m.str();
+}
+
 // The failure path itself: with an impossible tolerance (rest positions equal
 // to the bit) RapidCheck must find a failing case, shrink it to one body, and
 // the file must reproduce the disagreement.

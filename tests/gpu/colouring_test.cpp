@@ -65,7 +65,7 @@ struct Colouring {
 Colouring colour(Graph& g, bool reversed) {
   const int slots = static_cast<int>(g.list.size());
   const NeighbourLists lists{g.nbr.data(), g.count.data(), g.stride};
-  const float inv_cell = 0.5f;  // bands of 1 m
+  const float inv_cell = 0.5f;  // H = 1 m: bands of 1 / kBandsPerExtent m
   const std::size_t entries = g.nbr.size() + 1;
   Colouring c;
   c.mate.assign(entries, -1);
@@ -141,7 +141,8 @@ RC_GTEST_PROP(Colouring, IsAMatchingPerColourInTheEdgesOrder, ()) {
       if (i < j) RC_ASSERT(std::binary_search(listed.begin(), listed.end(), t));
       if (i < j)
         edges.push_back({i, j, c.colour[ut],
-                         edge_key(i, j, g.pos[static_cast<std::size_t>(i)].y, g.pos[static_cast<std::size_t>(j)].y, 1.0f)});
+                         edge_key(i, j, g.pos[static_cast<std::size_t>(i)].y, g.pos[static_cast<std::size_t>(j)].y,
+                                  static_cast<float>(kBandsPerExtent))});
     }
   }
   std::vector<bool> used(static_cast<std::size_t>(c.colours), false);

@@ -548,6 +548,34 @@ TEST(SettleTest, Eq112HoldsOffSupport) {
   EXPECT_TRUE(holds_off_support(V{0, -1, 0}, true, m));                  // a sleeper, static body or SDF above: a wedge
 }
 
+// eq 112's impacts: a contact's closing speed at its point, v_n = (v_a +
+// w_a x (c - p_a) - v_b - w_b x (c - p_b)).n (a the lower body or the only
+// one, n from b to a), and a speculative contact (gap beyond slop) closing
+// faster than rest_speed is an impact, not a support point. A box rolling
+// onto a corner: its centre falls at 1 m/s but the corner, turned by w,
+// does not close at all; the same corner of a box falling flat closes at 1.
+TEST(SettleTest, Eq112ImpactIsNotASupportPoint) {
+  const V n{0, 1, 0}, corner{0.5, -0.5, 0};
+  EXPECT_DOUBLE_EQ(contact_closing_speed(V{0, -1, 0}, V{}, V{}, corner, n), -1.0);
+  EXPECT_DOUBLE_EQ(contact_closing_speed(V{0, -1, 0}, V{0, 0, 2}, V{}, corner, n), 0.0);  // w x r = (1, 1, 0)
+  EXPECT_DOUBLE_EQ(contact_closing_speed(V{0, -1, 0}, V{0, 0, -2}, V{}, corner, n), -2.0);
+  // Two bodies: the lower (a) falls onto b, which rises and turns; b's part is taken off.
+  const V pa{0, 1, 0}, pb{0, -1, 0}, c{0.25, 0, 0.5};
+  const V va{0.5, -0.75, 0}, wa{0.25, 0, -0.5}, vb{0, 0.25, 0.125}, wb{0, 0.5, 1};
+  const V expect_rel = va + cross(wa, c - pa) - (vb + cross(wb, c - pb));
+  EXPECT_DOUBLE_EQ(contact_closing_speed(va, wa, pa, vb, wb, pb, c, n), dot(expect_rel, n));
+  EXPECT_DOUBLE_EQ(contact_closing_speed(va, wa, pa, vb, wb, pb, c, n),
+                   -contact_closing_speed(vb, wb, pb, va, wa, pa, c, n));  // the other order: -v_n
+  // support_impact: strict at both thresholds (slop 1 mm, rest_speed 0.2 m/s).
+  const double fast = -P.rest_speed - 0.01, at = -P.rest_speed;
+  EXPECT_TRUE(support_impact(-0.002, fast, P));       // 2 mm up, closing at 0.21 m/s
+  EXPECT_FALSE(support_impact(-0.002, at, P));        // exactly rest_speed: a support point
+  EXPECT_FALSE(support_impact(-0.002, 0.3, P));       // separating
+  EXPECT_FALSE(support_impact(-0.0005, -1.0, P));     // within slop: touching, always a support point
+  EXPECT_TRUE(support_impact(-P.slop, fast, P));      // a gap of exactly slop is speculative
+  EXPECT_FALSE(support_impact(0.001, -1.0, P));       // penetrating
+}
+
 // eq 113: strict per-component comparisons, in every number type.
 template <class T>
 void expect_visit_converged() {

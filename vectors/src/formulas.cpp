@@ -347,6 +347,22 @@ Json f_holds_off_support(In in, const std::string& p) {
   return Json{{"holds", holds_off_support(vec_at(in, "n", p), bool_at(in, "immovable", p),
                                           q16_at(in, "support_normal_min", p))}};
 }
+// eq 112's impacts: the closing speed at a contact's point (one body against
+// the ground or an SDF; a body pair, a the lower index, n from b towards a),
+// and whether a speculative contact closing faster than rest_speed is an
+// impact (no support point).
+Json f_contact_closing_speed(In in, const std::string& p) {
+  return Json{{"v_n", to_json(contact_closing_speed(vec_at(in, "va", p), vec_at(in, "wa", p), vec_at(in, "pa", p),
+                                                    vec_at(in, "point", p), vec_at(in, "n", p)))}};
+}
+Json f_contact_closing_speed_pair(In in, const std::string& p) {
+  return Json{{"v_n", to_json(contact_closing_speed(vec_at(in, "va", p), vec_at(in, "wa", p), vec_at(in, "pa", p),
+                                                    vec_at(in, "vb", p), vec_at(in, "wb", p), vec_at(in, "pb", p),
+                                                    vec_at(in, "point", p), vec_at(in, "n", p)))}};
+}
+Json f_support_impact(In in, const std::string& p) {
+  return Json{{"impact", support_impact(q16_at(in, "penetration", p), q16_at(in, "v_n", p), params_at(in, p))}};
+}
 // eq 112's chain: stage 6's order, and whether a body riding on its support stays over.
 Json f_settles_before(In in, const std::string& p) {
   return Json{{"before", settles_before(q16_at(in, "ys", p), static_cast<int>(int_at(in, "s", p)), q16_at(in, "yi", p),
@@ -542,6 +558,10 @@ const std::vector<Formula>& formulas() {
        f_over_support},
       {"holds_off_support", {112}, "n.y < support_normal_min and (immovable or n.y > -support_normal_min)",
        f_holds_off_support},
+      {"contact_closing_speed", {112}, "dot(va + cross(wa, point - pa), n)", f_contact_closing_speed},
+      {"contact_closing_speed_pair", {112}, "dot(va + cross(wa, point - pa) - (vb + cross(wb, point - pb)), n)",
+       f_contact_closing_speed_pair},
+      {"support_impact", {112}, "not (penetration > -slop) and v_n < -rest_speed", f_support_impact},
       {"settles_before", {112}, "ys < yi or (ys == yi and s < i): body s settles before body i (stage 6's order)",
        f_settles_before},
       {"over_with_support", {112}, "over and not (support_before and not support_over): a body riding on a body that tips tips",
@@ -833,6 +853,22 @@ std::vector<Case> cases_for(const std::string& fn, Rng& rng) {
       // A contact normal (towards the body) from any direction, from an awake or an immovable other side.
       in = {{"n", to_json(normalize(rng.vec(-1, 1)))}, {"immovable", k % 2 == 0},
             {"support_normal_min", to_json(P.support_normal_min)}};
+    } else if (fn == "contact_closing_speed" || fn == "contact_closing_speed_pair") {
+      // A point on a box (up to 1 m from its centre) anywhere in the scene;
+      // the ground's normal or any other; b rising, turning, or at rest.
+      const V pa = rng.vec(-5, 5), point = pa + rng.vec(-1, 1);
+      in = {{"va", random_raw_vec(rng, -3, 3)}, {"wa", random_raw_vec(rng, -3, 3)}, {"pa", to_json(pa)},
+            {"point", to_json(point)}, {"n", k % 3 ? up : to_json(normalize(rng.vec(-1, 1)))}};
+      if (fn == "contact_closing_speed_pair") {
+        in["vb"] = k % 4 ? random_raw_vec(rng, -3, 3) : zero;
+        in["wb"] = k % 4 ? random_raw_vec(rng, -3, 3) : zero;
+        in["pb"] = to_json(point + rng.vec(-1, 1));
+      }
+    } else if (fn == "support_impact") {
+      // Gaps within support_fade and beyond slop, touching or penetrating
+      // contacts; closing and separating speeds about rest_speed.
+      in = {{"penetration", to_json(k % 3 ? -rng.q16(0, 0.003) : rng.q16(-0.0015, 0.001))},
+            {"v_n", to_json(rng.q16(-0.6, 0.3))}};
     } else if (fn == "settles_before") {
       // Two heights, often equal (the index decides), and two indices.
       const Q16 ys = rng.q16(-2, 2);
@@ -1066,6 +1102,13 @@ std::vector<Case> cases_for(const std::string& fn, Rng& rng) {
     add({{"v_n", to_json(-P.wake_speed)}, {"penetration", 0}}, "approach exactly wake_speed (strict >)", {"Edge"});
     add({{"v_n", 0}, {"penetration", to_json(P.wake_penetration)}}, "penetration exactly wake_penetration (strict >)",
         {"Edge"});
+  } else if (fn == "support_impact") {
+    add({{"penetration", to_json(-P.slop)}, {"v_n", to_json(-P.rest_speed - Q16::from_raw(1))}},
+        "a gap of exactly slop is speculative; 1 ulp faster than rest_speed: an impact", {"Edge"});
+    add({{"penetration", to_json(-P.slop - Q16::from_raw(1))}, {"v_n", to_json(-P.rest_speed)}},
+        "closing at exactly rest_speed (strict <): a support point", {"Edge"});
+    add({{"penetration", to_json(Q16::from_raw(1) - P.slop)}, {"v_n", to_json(-Q16::from_int(5))}},
+        "1 ulp within slop: touching, a support point however fast", {"Edge"});
   } else if (fn == "support_weight") {
     add({{"penetration", 0}, {"width", to_json(P.support_fade)}}, "touching: weight 1", {"Edge"});
     add({{"penetration", to_json(Q16::from_raw(1) - P.support_fade)}, {"width", to_json(P.support_fade)}},
@@ -1185,6 +1228,7 @@ Json shared_for(const std::string& fn) {
   if (fn == "settle_linear") return shared_params({"settle_speed", "settle_factor"});
   if (fn == "sleep_candidate")
     return shared_params({"sleep_linear", "sleep_angular", "sleep_alignment", "sleep_small_radius", "sleep_corner_speed"});
+  if (fn == "support_impact") return shared_params({"slop", "rest_speed"});
   if (fn == "wakes") return shared_params({"wake_speed", "wake_penetration"});
   if (fn == "contact_target_velocity") return shared_params({"dt", "inv_dt"});
   if (fn == "manifold_visit") return shared_params({"dt", "inv_dt", "gravity"});
