@@ -683,7 +683,7 @@ TEST(SleepTest, Eq79SlowsOverOrLeaningNotTipping) {
   for (const Case c : {Case{true, false, true}, Case{false, true, true}, Case{true, true, true}, Case{false, false, false}}) {
     V v{0.02, 0, 0}, w{0, 0.01, 0};
     int counter = P.drowsy_frames - 1;  // this frame's candidate makes it drowsy
-    EXPECT_FALSE(update_sleep(v, w, counter, true, c.over, c.leaning, false, identity(), V{0, 1, 0}, 0.87, P));
+    EXPECT_FALSE(update_sleep(v, w, counter, true, c.over, c.leaning, false, true, identity(), V{0, 1, 0}, 0.87, P));
     EXPECT_EQ(counter, P.drowsy_frames);
     const double f = c.slowed ? P.drowsy_damping : 1.0;
     EXPECT_EQ(v.x, 0.02 * f) << "over " << c.over << " leaning " << c.leaning;
