@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "colouring.hpp"
+#include "load_stages.hpp"
 #include "oriented_stages.hpp"
 #include "pipeline_base.hpp"
 #include "stages.hpp"
@@ -65,6 +66,10 @@ class Pipeline final : public PipelineBase {
     support_idx_.resize(n + 1);
     over_support_.resize(n + 1);
     leaning_.resize(n + 1);
+    holds_.resize(n + 1);
+    can_rest_.resize(n + 1);
+    be_.fill_int(holds_.data(), 1, n + 1);
+    be_.fill_int(can_rest_.data(), 1, n + 1);
     for (auto& c : over_chain_) c.resize(n + 1);
     support_n_.resize(n + 1);
     for (auto& b : settle_) b.resize(n + 1);
@@ -281,6 +286,12 @@ class Pipeline final : public PipelineBase {
   Buf<int> support_idx_;
   Buf<int> over_support_;  // eq 112, per body (written by ContactsK for the active ones)
   Buf<int> leaning_;       // eq 115, per body (written by ContactsK with over_support_)
+  Buf<int> holds_;         // eq 116, per body (ContactsK): friction can hold it on its support
+  Buf<int> can_rest_;      // eqs 116-117, per body (ContactsK, LoadOverK): statics lets it rest
+  Buf<int> load_parent_;   // eq 117, per body (ContactsK)
+  Buf<F4> load_[2];        // eq 117's sweeps, per body: the load's offset (xyz) and mass (w)
+  Buf<F4> arms_;           // eq 117, per slot: the support points' lever arms (kMaxSupportPoints each)
+  Buf<int> n_arms_, held_; // eq 117, per slot: how many arms; something holds it (eq 112)
   Buf<int> over_chain_[2];  // eq 112's chain: its sweeps, per body
   Buf<F4> settle_[2];
   Buf<F4> p_tmp_, q_tmp_;
@@ -495,7 +506,29 @@ void Pipeline<B>::step() {
     ck.grow = grow;
     ck.over_support = over_support_.data();
     ck.leaning = leaning_.data();
+    ck.holds = holds_.data();
+    ck.can_rest = can_rest_.data();
+    if (oriented_) {
+      load_parent_.resize(static_cast<std::size_t>(n_) + 1);
+      arms_.resize(static_cast<std::size_t>(n_active) * kMaxSupportPoints + 1);
+      n_arms_.resize(static_cast<std::size_t>(n_active) + 1);
+      held_.resize(static_cast<std::size_t>(n_active) + 1);
+      ck.load_parent = load_parent_.data();
+      ck.arms_out = arms_.data();
+      ck.n_arms_out = n_arms_.data();
+      ck.held_out = held_.data();
+    }
     be_.for_n(n_active, ck);
+  }
+  // eq 117: the loads (sweeps), then whether each is over its support.
+  if (oriented_ && n_active > 0) {
+    for (auto& buf : load_) buf.resize(static_cast<std::size_t>(n_) + 1);
+    be_.fill_zero(load_[0].data(), static_cast<std::size_t>(n_) + 1);
+    const int r = sweep_until_fixed(n_active + 2, [&](int in, int out, int* changed) {
+      be_.for_n(n_active, LoadK{active, body_, nl, load_parent_.data(), load_[in].data(), load_[out].data(), changed});
+    });
+    be_.for_n(n_active, LoadOverK{active, body_, sc_, nl, load_parent_.data(), support_idx_.data(), load_[r].data(),
+                                  arms_.data(), n_arms_.data(), held_.data(), over_support_.data(), can_rest_.data()});
   }
   // eq 112's chain: a body riding on a body that tips tips too (sweeps).
   const int* over = over_support_.data();
@@ -559,6 +592,7 @@ void Pipeline<B>::step() {
   be_.mark(kStageSettle);
   SettleSweep sweep{support_idx_.data(), support_n_.data(), vel_[last].data(), vel_[last].data(), oriented_};
   if (oriented_) sweep.over = over, sweep.leaning = leaning_.data();
+  sweep.holds = holds_.data();
   if (fx_.settling && n_active > 0) {
     const int batch = std::max(1, opt_.settle_batch);
     for (int s = 0;;) {  // until every body's settled velocity is final
@@ -621,6 +655,7 @@ void Pipeline<B>::step() {
                     support_n_.data(), frame_, keep_.data(), scal_.data() + 1, ctr_.data()};
     const bool eq109 = oriented_ && fx_.sleep;
     cs.ready = eq109 ? ready_.data() : nullptr;
+    cs.can_rest = can_rest_.data();  // eqs 116, 117
     if (oriented_) cs.over = over, cs.leaning = leaning_.data();  // eq 112: one not over its support is not slowed (it sleeps on its own counter only)
     be_.for_n(n_active, cs);
     if (eq109) {  // eq 109: the ready bodies fall asleep bottom-up (sweeps)

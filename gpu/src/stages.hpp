@@ -745,6 +745,15 @@ struct ContactsK {
   const float* grow = nullptr;  // oriented-box model: per body, its AABB growth (eqs 97, 107)
   int* over_support = nullptr;  // per body: 1 when its centre of mass is over its support contacts (eq 112)
   int* leaning = nullptr;       // per body: 1 when it leans on what holds it beyond its support (eq 115)
+  int* holds = nullptr;         // per body: friction can hold it on its support (eq 116)
+  int* can_rest = nullptr;      // per body: statics lets it rest (eq 116 here; eq 117 in LoadOverK)
+  // The oriented-box model, eq 117's inputs: per body its load parent; per
+  // slot its support points' lever arms (kMaxSupportPoints each), how many
+  // (kMaxSupportPoints + 1: too many) and whether something holds it (eq 112).
+  int* load_parent = nullptr;
+  F4* arms_out = nullptr;
+  int* n_arms_out = nullptr;
+  int* held_out = nullptr;
   LS_HD void operator()(int k) const {
     const BodyArrays& b = d.b;
     const SceneConsts& sc = d.sc;
@@ -778,18 +787,24 @@ struct ContactsK {
     Vec3<float> arms[kMaxSupportPoints];   // eq 112: the lever arms of its support contacts
     int n_arms = 0;                        // kMaxSupportPoints + 1: too many to look at
     bool loaded = false;                   // eq 112: it touches (within slop) something not a support
+    float support_mu = 0.0f;               // eq 116: the first support contact's friction (eq 58)
+    int parent = kLoadNone;                // eq 117: fold_load_parent over the support contacts
     // v_n: the contact's closing speed (contact_closing_speed, the lower body first).
-    auto add_support = [&](int who, const Vec3<float>& n, float penetration, const Vec3<float>& point, float v_n) {
+    // mu2: the other side's friction; movable: the other side is an awake body (eq 117).
+    auto add_support = [&](int who, const Vec3<float>& n, float penetration, const Vec3<float>& point, float v_n,
+                           float mu2, bool movable) {
       support_sum += n * support_weight(penetration, fade);  // eq 98
       if (!support_impact(penetration, v_n, sc.P)) {  // eq 112: an impact is not a support point
         if (n_arms < kMaxSupportPoints) arms[n_arms] = point - p;
         if (n_arms <= kMaxSupportPoints) ++n_arms;
       }
       if (!(penetration > -slop)) return;
+      parent = fold_load_parent(parent, movable ? who : kLoadMany);  // eq 117
       const float gap = support_gap(penetration);
       if (support == kNoSupport) {
         support = who;
         support_gap_min = gap;
+        support_mu = sc.friction ? combined_friction(mu_self, mu2) : 0.0f;  // eq 58, as prepare_contact
       }
       support_gap_min = Num<float>::min(support_gap_min, gap);
     };
@@ -812,7 +827,8 @@ struct ContactsK {
         ++ground_contacts;
         if (depth > -slop && holds_off_support(up, true, min_up)) loaded = true;  // eq 112
         if (depth > -fade && up.y >= min_up)
-          add_support(kStaticSupport, up, depth, corner, contact_closing_speed(v0, w0, p, corner, up));
+          add_support(kStaticSupport, up, depth, corner, contact_closing_speed(v0, w0, p, corner, up), sc.ground_mu,
+                      false);
         mask |= 1 << c;
         immovable(c, corner - p, up, sc.ground_e, sc.ground_mu, ((prev_mask >> c) & 1) != 0);
       }
@@ -834,7 +850,8 @@ struct ContactsK {
         ++sdf_contacts;
         if (c.penetration > -slop && holds_off_support(c.n, true, min_up)) loaded = true;  // eq 112
         if (c.penetration > -fade && c.n.y >= min_up)
-          add_support(kStaticSupport, c.n, c.penetration, c.point, contact_closing_speed(v0, w0, p, c.point, c.n));
+          add_support(kStaticSupport, c.n, c.penetration, c.point, contact_closing_speed(v0, w0, p, c.point, c.n),
+                      mat.y, false);
         immovable(e, xyz(c1) - p, xyz(c0), mat.x, mat.y, had);
       }
     }
@@ -899,7 +916,8 @@ struct ContactsK {
           if (mf.penetration[c] > -fade && n_i.y >= min_up)
             add_support(j, n_i, mf.penetration[c], mf.point[c],
                         lower ? contact_closing_speed(v0, w0, p, other0.v, other0.w, pj, mf.point[c], mf.n)
-                              : contact_closing_speed(other0.v, other0.w, pj, v0, w0, p, mf.point[c], mf.n));
+                              : contact_closing_speed(other0.v, other0.w, pj, v0, w0, p, mf.point[c], mf.n),
+                        mu_o, j_awake);
           const Vec3<float> r1 = mf.point[c] - (lower ? p : pj), r2 = mf.point[c] - (lower ? pj : p);
           ContactState<float> cs =
               prepare_contact(pick(lower, self0, other0), r1, pick(lower, other0, self0), r2, mf.n,
@@ -931,7 +949,8 @@ struct ContactsK {
       if (pc.penetration > -fade && n_i.y >= min_up)
         add_support(j, n_i, pc.penetration, pc.point,
                     lower ? contact_closing_speed(v0, w0, p, other0.v, other0.w, pj, pc.point, pc.n)
-                          : contact_closing_speed(other0.v, other0.w, pj, v0, w0, p, pc.point, pc.n));
+                          : contact_closing_speed(other0.v, other0.w, pj, v0, w0, p, pc.point, pc.n),
+                    ro(b.inert + j).w, j_awake);
       const Vec3<float> r1 = pc.point - (lower ? p : pj), r2 = pc.point - (lower ? pj : p);
       const float e_o = ro(b.half + j).w, mu_o = ro(b.inert + j).w;
       // Body 1 is the lower index (one call for either order: the threads of a
@@ -969,6 +988,18 @@ struct ContactsK {
           support == kNoSupport || lockstep::over_support(arms, n_arms, up, length(w0) < sc.P.sleep_angular);
       over_support[i] = loaded || over_contacts ? 1 : 0;
       leaning[i] = leans(support != kNoSupport, loaded, over_contacts) ? 1 : 0;  // eq 115
+    }
+    if (holds != nullptr) {  // eq 116
+      const bool held_up = support == kNoSupport ||
+                           friction_holds(sc.gravity ? sc.P.gravity : Vec3<float>{}, n_s, support_mu);
+      holds[i] = held_up ? 1 : 0;
+      can_rest[i] = held_up ? 1 : 0;
+    }
+    if (load_parent != nullptr) {  // eq 117's inputs
+      load_parent[i] = parent >= 0 && settles_before(ro(b.pos + parent).y, parent, p.y, i) ? parent : kLoadNone;
+      for (int u = 0; u < n_arms && u < kMaxSupportPoints; ++u) arms_out[k * kMaxSupportPoints + u] = f4(arms[u], 0.0f);
+      n_arms_out[k] = n_arms;
+      held_out[k] = loaded ? 1 : 0;
     }
     vout[i] = f4(self.v, 0.0f);
     wout[i] = f4(self.w, 0.0f);
@@ -1313,6 +1344,7 @@ struct SettleSweep {
   bool relative = false;  // the oriented-box model: eq 77 relative to the support's velocity
   const int* over = nullptr;  // the oriented-box model: per body, over its support (eq 112); one that is not does not settle
   const int* leaning = nullptr;  // the oriented-box model: per body, it leans (eq 115): not righted
+  const int* holds = nullptr;    // per body: friction can hold it (eq 116): eq 77 damps only these
   LS_HD bool settles(int i) const { return over == nullptr || ro(over + i) != 0; }
   LS_HD bool leans(int i) const { return leaning != nullptr && ro(leaning + i) != 0; }
   // Eqs 75, 77 on v (the solver's velocity of body i); returns |v| after eq 75
@@ -1337,7 +1369,8 @@ struct SettleSweep {
       }
     }
     const F4 sn = ro(support_n + i);  // the support normal, w: the support gap
-    return settle_linear_velocity(v, v_s, xyz(sn), sn.w, P, relative);  // eqs 75, 77
+    return settle_linear_velocity(v, v_s, xyz(sn), sn.w, P, relative,
+                                  holds == nullptr || ro(holds + i) != 0);  // eqs 75, 77, 116
   }
 };
 
@@ -1498,6 +1531,7 @@ struct CommitSleepK {
   int* ready = nullptr;  // oriented-box model: per slot, 1 when its counter reached sleep_frames (eq 109 decides)
   const int* over = nullptr;  // oriented-box model: per body, over its support (eq 112)
   const int* leaning = nullptr;  // oriented-box model: per body, it leans (eq 115): its alignment is not asked
+  const int* can_rest = nullptr;  // per body: statics lets it rest (eqs 116, 117)
   LS_HD void operator()(int k) const {
     const int i = list[k];
     const F4 p4 = p_in[k];
@@ -1515,7 +1549,8 @@ struct CommitSleepK {
       const Vec3<float> up = supported ? xyz(support_n[i]) : Vec3<float>{0.0f, Num<float>::from_int(1), 0.0f};
       const bool is_over = over == nullptr || over[i] != 0;  // eq 112: one not over its support may be tipping
       const bool leaning_i = leaning != nullptr && leaning[i] != 0;  // eq 115
-      asleep = update_sleep(v, w, counter, supported, is_over, leaning_i, !sc.oriented, R, up, length(xyz(b.half[i])),
+      asleep = update_sleep(v, w, counter, supported, is_over, leaning_i, !sc.oriented, can_rest == nullptr || can_rest[i] != 0, R, up,
+                            length(xyz(b.half[i])),
                             sc.P);
       b.sleep_counter[i] = counter;
       if (ready != nullptr) ready[k] = counter >= sc.P.sleep_frames ? 1 : 0;

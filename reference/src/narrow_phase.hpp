@@ -220,7 +220,76 @@ void World<T>::narrow_phase() {
   std::sort(settle_order_.begin(), settle_order_.end(), [&](int a, int b) {
     return settles_before(bodies_[static_cast<std::size_t>(a)].p.y, a, bodies_[static_cast<std::size_t>(b)].p.y, b);
   });
+  // eq 116: friction holds it on its first support contact's friction (eq 58).
+  const Vec3<T> g = scene_.effects.gravity ? P_.gravity : Vec3<T>{};
+  auto material_mu = [&](int idx) {
+    return idx >= 0 ? bodies_[static_cast<std::size_t>(idx)].friction
+                    : (idx == -1 ? ground_mu_ : sdf_mu_[static_cast<std::size_t>(-2 - idx)]);
+  };
+  std::fill(holds_.begin(), holds_.end(), 1);
+  std::fill(can_rest_.begin(), can_rest_.end(), 1);
+  for (const int idx : settle_order_) {
+    const auto i = static_cast<std::size_t>(idx);
+    const Contact<T>& c = contacts_[static_cast<std::size_t>(support_[i])];
+    const T mu = scene_.effects.friction ? combined_friction(material_mu(c.a), material_mu(c.b)) : T{};
+    holds_[i] = friction_holds(g, support_n_[i], mu) ? 1 : 0;
+    can_rest_[i] = holds_[i];
+  }
   if (!oriented) return;
+  // eq 117: load parents (the one awake body below that every support
+  // contact touches), then each load from the top down (stage 6's order
+  // reversed: children first), its children in ascending index; a body whose
+  // load's centre is not over its support tips with its load: it does not
+  // settle and cannot rest, unless something holds it (eq 112).
+  load_parent_.assign(bodies_.size(), kLoadNone);
+  for (const Contact<T>& c : contacts_) {
+    if (!(c.penetration > -P_.slop)) continue;
+    if (c.n.y >= P_.support_normal_min) {
+      const bool movable = c.b >= 0 && bodies_[static_cast<std::size_t>(c.b)].awake();
+      int& s = load_parent_[static_cast<std::size_t>(c.a)];
+      s = fold_load_parent(s, movable ? c.b : kLoadMany);
+    }
+    if (c.b >= 0 && -c.n.y >= P_.support_normal_min) {
+      int& s = load_parent_[static_cast<std::size_t>(c.b)];
+      s = fold_load_parent(s, bodies_[static_cast<std::size_t>(c.a)].awake() ? c.a : kLoadMany);
+    }
+  }
+  load_children_.clear();
+  for (const int idx : settle_order_) {
+    const auto i = static_cast<std::size_t>(idx);
+    const int s = load_parent_[i];
+    if (s >= 0 && settles_before(bodies_[static_cast<std::size_t>(s)].p.y, s, bodies_[i].p.y, idx))
+      load_children_.emplace_back(s, idx);
+  }
+  if (!load_children_.empty()) {
+    std::sort(load_children_.begin(), load_children_.end());
+    load_mass_.resize(bodies_.size());
+    load_offset_.resize(bodies_.size());
+    const T cap = Num<T>::from_double(kLoadMassCap), one = Num<T>::from_int(1);
+    for (auto it = settle_order_.rbegin(); it != settle_order_.rend(); ++it) {
+      const int idx = *it;
+      const auto i = static_cast<std::size_t>(idx);
+      const auto first = std::lower_bound(load_children_.begin(), load_children_.end(), std::pair<int, int>{idx, -1});
+      auto last = first;
+      T mass = one / bodies_[i].inv_mass;
+      for (; last != load_children_.end() && last->first == idx; ++last)
+        mass = load_mass_add(mass, load_mass_[static_cast<std::size_t>(last->second)], cap);
+      Vec3<T> offset{};
+      for (auto c = first; c != last; ++c) {
+        const auto j = static_cast<std::size_t>(c->second);
+        offset = load_offset_add(offset, load_mass_[j], mass, bodies_[j].p, load_offset_[j], bodies_[i].p);
+      }
+      load_mass_[i] = mass;
+      load_offset_[i] = offset;
+      check_faults(idx, "load (eq 117)");
+      if (first == last || loaded[i] != 0) continue;  // no load children; or held
+      if (load_over_support(support_arms_[i].data(), n_arms[i], offset, Vec3<T>{T{}, one, T{}},
+                            length(bodies_[i].w) < P_.sleep_angular))
+        continue;
+      over_support_[i] = 0;
+      can_rest_[i] = 0;
+    }
+  }
   // eq 112's chain, in that order: a body riding on a body that tips tips too.
   for (const int idx : settle_order_) {
     const auto i = static_cast<std::size_t>(idx);

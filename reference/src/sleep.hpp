@@ -103,8 +103,8 @@ void World<T>::update_sleep() {
     const Vec3<T> up = supported ? support_normal(i) : Vec3<T>{T{}, Num<T>::from_int(1), T{}};
     // eq 112: a body not over its support may be tipping: not slowed (it sleeps only on its own counter).
     const bool over = !oriented || over_support_[i] != 0;
-    if (lockstep::update_sleep(b.v, b.w, b.sleep_counter, supported, over, leaning_[i] != 0, !oriented, b.R, up,
-                               length(b.half), P_)) {  // eqs 78-80, 115
+    if (lockstep::update_sleep(b.v, b.w, b.sleep_counter, supported, over, leaning_[i] != 0, !oriented,
+                               can_rest_[i] != 0, b.R, up, length(b.half), P_)) {  // eqs 78-80, 115-117
       b.asleep = true;
       b.sleep_frame = frame_;
     } else if (b.sleep_counter >= P_.sleep_frames) {

@@ -372,6 +372,31 @@ Json f_over_with_support(In in, const std::string& p) {
   return Json{{"over", over_with_support(bool_at(in, "over", p), bool_at(in, "support_before", p),
                                          bool_at(in, "support_over", p))}};
 }
+// eq 116: whether friction can hold a body on its support.
+Json f_friction_holds(In in, const std::string& p) {
+  return Json{{"holds", friction_holds(vec_at(in, "g", p), vec_at(in, "n", p), q16_at(in, "mu", p))}};
+}
+// eq 117: the load parent fold, the load's mass and centre, and whether it is over its support.
+Json f_fold_load_parent(In in, const std::string& p) {
+  return Json{{"state", fold_load_parent(static_cast<int>(int_at(in, "state", p)), static_cast<int>(int_at(in, "other", p)))}};
+}
+Json f_load_mass_add(In in, const std::string& p) {
+  return Json{{"mass", to_json(load_mass_add(q16_at(in, "acc", p), q16_at(in, "m", p), q16_at(in, "cap", p)))}};
+}
+Json f_load_offset_add(In in, const std::string& p) {
+  return Json{{"offset", to_json(load_offset_add(vec_at(in, "acc", p), q16_at(in, "child_mass", p), q16_at(in, "mass", p),
+                                                 vec_at(in, "child_p", p), vec_at(in, "child_offset", p),
+                                                 vec_at(in, "p", p)))}};
+}
+Json f_load_over_support(In in, const std::string& p) {
+  const Json& rs = member(in, "r", p);
+  if (!rs.is_array() || rs.size() > static_cast<std::size_t>(kMaxSupportPoints))
+    throw FormatError(p + ".r: expected 0 to 16 lever arms");
+  std::vector<V> r;
+  for (std::size_t k = 0; k < rs.size(); ++k) r.push_back(vec_at(Json{{"r", rs[k]}}, "r", p + ".r[" + std::to_string(k) + "]"));
+  return Json{{"over", load_over_support(r.data(), static_cast<int>(r.size()), vec_at(in, "offset", p), vec_at(in, "n", p),
+                                         bool_at(in, "boundary_over", p))}};
+}
 // eq 115: whether a supported body leans on what holds it beyond its support.
 Json f_leans(In in, const std::string& p) {
   return Json{{"leans", leans(bool_at(in, "supported", p), bool_at(in, "held", p), bool_at(in, "over_contacts", p))}};
@@ -569,6 +594,16 @@ const std::vector<Formula>& formulas() {
       {"leans", {115}, "supported and held and not over_contacts: it rests tilted on what holds it (not righted, no alignment test for sleep)",
        f_leans},
       {"settle_linear", {77}, "v * settle_factor if speed < settle_speed, else v", f_settle_linear},
+      {"friction_holds", {116},
+       "gn = dot(g, n); gt = g - n * gn; false if gn > 0, else not (|gt| > mu * -gn) (|gt| by longer_than)",
+       f_friction_holds},
+      {"fold_load_parent", {117},
+       "other if state == -1 (kLoadNone), state if state == other, else -2 (kLoadMany); an immovable other side is passed as -2",
+       f_fold_load_parent},
+      {"load_mass_add", {117}, "cap if m > cap - acc, else acc + m", f_load_mass_add},
+      {"load_offset_add", {117}, "acc + ((child_p - p) + child_offset) * (child_mass / mass)", f_load_offset_add},
+      {"load_over_support", {117}, "over_support(r[k] - offset for each k, n, boundary_over); 0 or more than 16 arms: true",
+       f_load_over_support},
       {"visit_converged", {113}, "true iff |v_k - v0_k| < eps and |w_k - w0_k| < eps for every component k",
        f_visit_converged},
       {"combined_restitution", {50}, "min(e1, e2)", f_combined_restitution},
@@ -877,6 +912,38 @@ std::vector<Case> cases_for(const std::string& fn, Rng& rng) {
       in = {{"over", (k & 1) != 0}, {"support_before", (k & 2) != 0}, {"support_over", (k & 4) != 0}};
       add(in, "", {"Sweep"});
       continue;
+    } else if (fn == "friction_holds") {
+      // A ramp's normal (tilted 0-45 degrees about a random horizontal
+      // axis), gravity down (or zero, or sideways), friction around tan a.
+      const Q16 tilt = rng.q16(0, 1);
+      const Q16 dir = rng.q16(-1, 1);
+      const V ramp = normalize(V{tilt * dir, Q16::from_int(1), tilt * (Q16::from_int(1) - Num<Q16>::abs(dir))});
+      const V g = k % 7 == 0 ? V{} : (k % 5 == 0 ? rng.vec(-10, 10) : V{Q16{}, Q16::from_double(-9.81), Q16{}});
+      in = {{"g", to_json(g)}, {"n", to_json(ramp)}, {"mu", to_json(rng.q16(0, 1.2))}};
+    } else if (fn == "fold_load_parent") {
+      in = {{"state", k % 4 == 0 ? -1 : (k % 4 == 1 ? -2 : k % 3)}, {"other", k % 5 == 0 ? -2 : (k / 4) % 3}};
+      add(in, "", {"Sweep"});
+      continue;
+    } else if (fn == "load_mass_add") {
+      const Q16 cap = Q16::from_double(kLoadMassCap);
+      in = {{"acc", to_json(k % 4 == 0 ? rng.q16(16000, 16384) : rng.q16(0.5, 20))},
+            {"m", to_json(k % 3 == 0 ? rng.q16(100, 10000) : rng.q16(0.5, 20))}, {"cap", to_json(cap)}};
+    } else if (fn == "load_offset_add") {
+      // A child cube up to 1.5 m above and beside its parent, its own load's offset, a few kg.
+      const V p0 = rng.vec(-5, 5);
+      const Q16 cm = rng.q16(0.5, 8);
+      in = {{"acc", to_json(rng.vec(-0.5, 0.5))}, {"child_mass", to_json(cm)}, {"mass", to_json(cm + rng.q16(0.5, 8))},
+            {"child_p", to_json(p0 + V{rng.q16(-0.6, 0.6), rng.q16(0.5, 1.5), rng.q16(-0.6, 0.6)})},
+            {"child_offset", to_json(rng.vec(-0.5, 0.5))}, {"p", to_json(p0)}};
+    } else if (fn == "load_over_support") {
+      // A box's bottom corners and a load's centre up to 1.2 half extents off
+      // the body's centre: often beyond the edge.
+      const V h{rng.q16(0.1, 1), rng.q16(0.1, 1), rng.q16(0.1, 1)};
+      Json r = Json::array();
+      const int count = 1 + k % 4;
+      for (int c = 0; c < count; ++c) r.push_back(to_json(V{c & 1 ? h.x : -h.x, -h.y, c & 2 ? h.z : -h.z}));
+      const V offset{rng.q16(-1.2, 1.2) * h.x, rng.q16(0, 2), rng.q16(-1.2, 1.2) * h.z};
+      in = {{"r", r}, {"offset", to_json(offset)}, {"n", up}, {"boundary_over", k % 2 == 0}};
     } else if (fn == "leans") {
       in = {{"supported", (k & 1) != 0}, {"held", (k & 2) != 0}, {"over_contacts", (k & 4) != 0}};
       add(in, "", {"Sweep"});
@@ -1102,6 +1169,23 @@ std::vector<Case> cases_for(const std::string& fn, Rng& rng) {
     add({{"v_n", to_json(-P.wake_speed)}, {"penetration", 0}}, "approach exactly wake_speed (strict >)", {"Edge"});
     add({{"v_n", 0}, {"penetration", to_json(P.wake_penetration)}}, "penetration exactly wake_penetration (strict >)",
         {"Edge"});
+  } else if (fn == "friction_holds") {
+    // tan(a) = mu exactly: a 3-4-5 ramp (n = (-3/5, 4/5, 0)), g = (0, -10, 0): |gt| = 6, -gn = 8.
+    const Json n345 = to_json(V{Q16::from_double(-0.6), Q16::from_double(0.8), Q16{}});
+    const Json g10 = to_json(V{Q16{}, Q16::from_int(-10), Q16{}});
+    add({{"g", g10}, {"n", n345}, {"mu", to_json(Q16::from_double(0.75))}}, "friction exactly tan a: holds (<=)", {"Edge"});
+    add({{"g", g10}, {"n", n345}, {"mu", to_json(Q16::from_double(0.75) - Q16::from_raw(1))}},
+        "friction 1 ulp below tan a: driven", {"Edge"});
+    add({{"g", to_json(V{})}, {"n", n345}, {"mu", 0}}, "no gravity: holds", {"Edge"});
+    add({{"g", g10}, {"n", up}, {"mu", 0}}, "flat, frictionless: holds (nothing pulls along it)", {"Edge"});
+    add({{"g", to_json(V{Q16{}, Q16::from_int(10), Q16{}})}, {"n", up}, {"mu", kOne}}, "gravity pulls it off: not held",
+        {"Edge"});
+  } else if (fn == "load_mass_add") {
+    const Q16 cap = Q16::from_double(kLoadMassCap);
+    add({{"acc", to_json(cap - Q16::from_int(2))}, {"m", to_json(Q16::from_int(2))}, {"cap", to_json(cap)}},
+        "reaches the cap exactly", {"Edge"});
+    add({{"acc", to_json(cap - Q16::from_int(2))}, {"m", to_json(Q16::from_int(2) + Q16::from_raw(1))}, {"cap", to_json(cap)}},
+        "1 ulp beyond the cap: the cap", {"Edge"});
   } else if (fn == "support_impact") {
     add({{"penetration", to_json(-P.slop)}, {"v_n", to_json(-P.rest_speed - Q16::from_raw(1))}},
         "a gap of exactly slop is speculative; 1 ulp faster than rest_speed: an impact", {"Edge"});

@@ -89,7 +89,8 @@ LS_HD inline void evaluate_formula_case(int kind, const Params<float>& P, const 
     }
     case kFormulaSettle: {
       Vec3<float> v = v3(0);
-      const float speed = settle_linear_velocity(v, v3(3), normalize(v3(6)), Num<float>::abs(in[19]) * 0.01f, P, false);
+      const float speed = settle_linear_velocity(v, v3(3), normalize(v3(6)), Num<float>::abs(in[19]) * 0.01f, P, false,
+                                                 true);
       put3(0, v);
       out[3] = speed;
       put3(4, settle_angular_velocity(v3(9), rotation_matrix(q4(12)), normalize(v3(16)), speed, true, in[20] > 0.5f,
@@ -100,7 +101,7 @@ LS_HD inline void evaluate_formula_case(int kind, const Params<float>& P, const 
       Vec3<float> v = v3(0), w = v3(3);
       int counter = static_cast<int>(in[10]);
       // radius in [0, 2] m: both branches of eq 78; in[16] > 0.5: leaning (eq 115)
-      const bool asleep = update_sleep(v, w, counter, in[11] > 0.0f, true, in[16] > 0.5f, true, rotation_matrix(q4(6)),
+      const bool asleep = update_sleep(v, w, counter, in[11] > 0.0f, true, in[16] > 0.5f, true, true, rotation_matrix(q4(6)),
                                        normalize(v3(12)), Num<float>::abs(in[15]), P);
       put3(0, v); put3(3, w);
       out[6] = static_cast<float>(counter);

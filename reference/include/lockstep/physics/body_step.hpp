@@ -28,15 +28,17 @@ LS_HD void integrate_velocity(Vec3<T>& v, Vec3<T>& w, bool gravity, bool damping
 // the velocity relative to it (`relative`, the oriented-box model) or on v
 // (the source's AABB model). n is the body's support normal (98), gap its
 // support gap (Part 4: 0 when a support contact touches). Returns the speed
-// eq 77 judged, which righting (eqs 67-71) uses.
+// eq 77 judged, which righting (eqs 67-71) uses. `holds`: friction can hold
+// the body on its support (eq 116); a driven body (a slide down a ramp
+// steeper than its friction) is not damped by eq 77.
 template <class T>
 LS_HD T settle_linear_velocity(Vec3<T>& v, const Vec3<T>& v_support, const Vec3<T>& n, const T& gap,
-                               const Params<T>& P, bool relative) {
+                               const Params<T>& P, bool relative, bool holds) {
   v = cancel_resting_velocity(v, v_support, n, gap * P.inv_dt, P.rest_speed);  // eq 75
   const Vec3<T> base = relative ? v_support : Vec3<T>{};  // the source's AABB model: eq 77 on v itself
   const Vec3<T> rel = v - base;
   const T speed = length(rel);
-  v = base + settle_linear(rel, speed, P);  // eq 77, relative to the support
+  if (holds) v = base + settle_linear(rel, speed, P);  // eq 77, relative to the support; eq 116
   return speed;
 }
 
@@ -71,14 +73,16 @@ LS_HD void integrate_pose(Vec3<T>& p, Quat<T>& q, const Vec3<T>& v, const Vec3<T
 // `leaning`: it leans (eq 115) and rests tilted on what holds it: it counts
 // as supported, its alignment is not asked, and it is slowed (79) once drowsy
 // (held, it is not tipping; a leaning cube left to creep woke the cubes on it).
+// `can_rest`: statics lets it rest (eqs 116, 117: friction holds it and its
+// load is over its support); a body that cannot is no candidate.
 // Returns true when it falls asleep (v and w are then zeroed, eq 80).
 template <class T>
 LS_HD bool update_sleep(Vec3<T>& v, Vec3<T>& w, int& counter, bool supported, bool over, bool leaning,
-                        bool support_resting, const Mat3<T>& R, const Vec3<T>& up, const T& radius,
+                        bool support_resting, bool can_rest, const Mat3<T>& R, const Vec3<T>& up, const T& radius,
                         const Params<T>& P) {
   const T speed = length(v), spin = length(w);
   const T alignment = leaning ? Num<T>::from_int(1) : alignment_of(R, up).alignment;  // eqs 64-66, 115
-  if (sleep_candidate(supported || leaning, speed, spin, alignment, radius, P)) ++counter;  // eqs 78, 115
+  if (can_rest && sleep_candidate(supported || leaning, speed, spin, alignment, radius, P)) ++counter;  // eqs 78, 115-117
   else counter = 0;
   switch (sleep_stage(counter, P.drowsy_frames, P.sleep_frames)) {
     case SleepStage::kAsleep:  // eq 80

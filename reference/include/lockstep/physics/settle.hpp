@@ -223,6 +223,70 @@ LS_HD inline bool over_with_support(bool over, bool support_before, bool support
   return over && !(support_before && !support_over);
 }
 
+// eq 116 (Part 4): whether friction can hold a body still on its support:
+// with g the gravity (m/s^2), n its support normal (towards the body) and mu
+// the friction of its first support contact (eq 58; 0 with friction off),
+// gravity's pull along the support, g_t = g - (g.n) n, is within the cone,
+// |g_t| <= mu (-g.n), and gravity presses it onto the support (g.n <= 0).
+// Statics: a cube on a ramp of angle a holds when tan a <= mu. A body that
+// friction cannot hold is driven: settling (77) does not drag it and it is
+// no sleep candidate (78), so it slides at g (sin a - mu cos a); eq 77 as a
+// drag held a cube on a 20 degree ramp at mu 0.2 to 0.226 m/s where Newton
+// says 3.0 m/s after 2 s. Zero gravity holds anything (0 <= 0).
+template <class T>
+LS_HD bool friction_holds(const Vec3<T>& g, const Vec3<T>& n, const T& mu) {
+  const T gn = dot(g, n);
+  if (gn > T{}) return false;
+  const Vec3<T> gt = g - n * gn;
+  return !longer_than(gt, mu * -gn);
+}
+
+// eq 117 (Part 4): the load a body carries. A body j's load parent is the
+// one body s that all of its support contacts (touching within slop, Part
+// 4) touch, when s is awake and settles before j (settles_before: lower, so
+// the parents never form a cycle); none when j rests on several things, on
+// the ground, an SDF, a static or a sleeping body. fold_load_parent folds
+// one support contact's other side into `state`: kLoadNone before the first,
+// the body, or kLoadMany (several, or an immovable one: pass kLoadMany as
+// `other`).
+inline constexpr int kLoadNone = -1, kLoadMany = -2;
+LS_HD inline int fold_load_parent(int state, int other) {
+  if (state == kLoadNone) return other;
+  return state == other ? state : kLoadMany;
+}
+
+// eq 117: a body's load is itself and its load children (the bodies whose
+// load parent it is), each with its own load, children in ascending index:
+// mass M = m + sum M_j and centre p + D, D = sum (M_j / M) (p_j + D_j - p).
+// M is summed with load_mass_add, which stops at kLoadMassCap (16384 kg,
+// half Q16.16's range: a heavier load is weighed as that much); D with
+// load_offset_add once M is known. Formed in any order that forms a child
+// before its parent (World: descending stage 6 order; the GPU engine: sweeps
+// to a fixed point), the result is the same.
+template <class T>
+LS_HD T load_mass_add(const T& acc, const T& m, const T& cap) {
+  return m > cap - acc ? cap : acc + m;
+}
+template <class T>
+LS_HD Vec3<T> load_offset_add(const Vec3<T>& acc, const T& child_mass, const T& mass, const Vec3<T>& child_p,
+                              const Vec3<T>& child_offset, const Vec3<T>& p) {
+  return acc + ((child_p - p) + child_offset) * (child_mass / mass);
+}
+inline constexpr double kLoadMassCap = 16384.0;
+
+// eq 117: whether a body's load is over its support: eq 112's test on its
+// support points taken from the load's centre p + D instead of p (lever arms
+// r_k - D), along up; `boundary_over` as eq 112. Without load children (D
+// not formed) it is eq 112's own answer.
+template <class T>
+LS_HD bool load_over_support(const Vec3<T>* r, int count, const Vec3<T>& offset, const Vec3<T>& n,
+                             bool boundary_over) {
+  if (count > kMaxSupportPoints || count == 0) return true;
+  Vec3<T> shifted[kMaxSupportPoints];
+  for (int k = 0; k < count; ++k) shifted[k] = r[k] - offset;
+  return over_support(shifted, count, n, boundary_over);
+}
+
 // eq 77 (4.6): a supported body slower than settle_speed loses a fraction of its velocity.
 template <class T>
 LS_HD Vec3<T> settle_linear(const Vec3<T>& v, const T& speed, const Params<T>& P) {

@@ -1,0 +1,88 @@
+// The GPU engine's kernels of eq 117 (docs/SPEC.md Part 4: the load a body
+// carries and whether it is over its support). World<T> forms each load from
+// the top down in one pass (children before parents); here every active
+// body gathers its load children's loads from the previous sweep (its
+// neighbour list is in ascending index, the order eq 117 sums them in), and
+// the sweeps repeat until one reproduces its input bit for bit: the load
+// parents settle before their children, so the chains are acyclic and the
+// fixed point, reached after the longest chain plus one sweep, is World<T>'s.
+#pragma once
+#include "stages.hpp"
+
+namespace lockstep::gpu {
+
+// One sweep: out[i] = (offset D, mass M) of body i's load from its load
+// children's previous values in[j] (eq 117; `in` zero before the first).
+// `changed` counts the bodies whose result differs from `in`.
+struct LoadK {
+  const int* list;
+  BodyArrays b;
+  NeighbourLists lists;
+  const int* load_parent;  // per body (ContactsK)
+  const F4* in;
+  F4* out;
+  int* changed;
+  LS_HD void operator()(int k) const {
+    const int i = ro(list + k);
+    const F4 pi4 = ro(b.pos + i);
+    const Vec3<float> p = xyz(pi4);
+    const float cap = Num<float>::from_double(kLoadMassCap);
+    float mass = Num<float>::from_int(1) / pi4.w;
+    const int beg = lists.begin(k), end = lists.end(k);
+    for (int t = beg; t < end; ++t) {
+      const int j = ro(lists.nbr + t);
+      if (is_awake(ro(b.flags + j)) && ro(load_parent + j) == i) mass = load_mass_add(mass, ro(in + j).w, cap);
+    }
+    Vec3<float> offset{};
+    for (int t = beg; t < end; ++t) {
+      const int j = ro(lists.nbr + t);
+      if (!is_awake(ro(b.flags + j)) || ro(load_parent + j) != i) continue;
+      const F4 lj = ro(in + j);
+      offset = load_offset_add(offset, lj.w, mass, xyz(ro(b.pos + j)), xyz(lj), p);
+    }
+    const F4 result = f4(offset, mass);
+    out[i] = result;
+    if (changed != nullptr) {
+      const F4 was = ro(in + i);
+      add_to(changed, result.x != was.x || result.y != was.y || result.z != was.z || result.w != was.w ? 1 : 0);
+    }
+  }
+};
+
+// After the sweeps: a supported body with load children that nothing holds
+// (eq 112) and whose load's centre is not over its support points tips with
+// its load: not over its support (no settling; eq 112's chain reads it) and
+// it cannot rest (no sleep candidate).
+struct LoadOverK {
+  const int* list;
+  BodyArrays b;
+  SceneConsts sc;
+  NeighbourLists lists;
+  const int* load_parent;
+  const int* support_idx;
+  const F4* load;      // the sweeps' result
+  const F4* arms;      // per slot, kMaxSupportPoints (ContactsK)
+  const int* n_arms;   // per slot
+  const int* held;     // per slot
+  int* over_support;   // per body
+  int* can_rest;       // per body
+  LS_HD void operator()(int k) const {
+    const int i = ro(list + k);
+    if (ro(support_idx + i) == kNoSupport || ro(held + k) != 0) return;
+    bool carries = false;
+    for (int t = lists.begin(k), end = lists.end(k); t < end && !carries; ++t) {
+      const int j = ro(lists.nbr + t);
+      carries = is_awake(ro(b.flags + j)) && ro(load_parent + j) == i;
+    }
+    if (!carries) return;
+    Vec3<float> r[kMaxSupportPoints];
+    const int count = ro(n_arms + k);
+    for (int a = 0; a < count && a < kMaxSupportPoints; ++a) r[a] = xyz(ro(arms + k * kMaxSupportPoints + a));
+    const Vec3<float> up{0.0f, Num<float>::from_int(1), 0.0f};
+    if (load_over_support(r, count, xyz(ro(load + i)), up, length(xyz(ro(b.ang + i))) < sc.P.sleep_angular)) return;
+    over_support[i] = 0;
+    can_rest[i] = 0;
+  }
+};
+
+}  // namespace lockstep::gpu

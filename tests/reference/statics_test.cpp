@@ -1,0 +1,247 @@
+// Statics and Newton's second law decide where a body may rest
+// (docs/SPEC.md Part 4, eqs 116 and 117), on every engine: fixed, float,
+// double, mp and the GPU engine's host build (the CUDA kernels' pipeline).
+// - Ramps (eq 116): a cube on a static slab tilted 10, 20 or 30 degrees with
+//   friction below tan(a) slides with acceleration g (sin a - mu cos a),
+//   within 2 % over two seconds; pushed down a ramp whose friction exceeds
+//   tan(a) it stops where friction stops it, v^2 / (2 g (mu cos a - sin a)),
+//   and sleeps. Before eq 116, eq 77 acted as a viscous drag: 0.226 m/s
+//   terminal on 20 degrees with mu 0.2, where Newton says 3.0 m/s after 2 s.
+// - Overhangs (eq 117): towers of 3-8 cubes (0.5-1 m, 0.5-2 kg) stacked
+//   face on face, each shifted against the one below, so that the centre of
+//   mass of some upper part lies 3-12 cm beyond the edge of the cube under
+//   it: statics says they fall (some cube ends half its size or more below
+//   where it started). Before eq 117 the upper cubes settled and slept
+//   leaning: 8 of 10 stood. kTowerCases per engine in CI,
+//   LOCKSTEP_TOWER_CASES (10,000) under the label long.
+#include <gtest/gtest.h>
+#include <rapidcheck.h>
+
+#include <cmath>
+#include <sstream>
+#include <vector>
+
+#include "../fixed/prop.hpp"
+#include "engine_types.hpp"
+#include "lockstep/gpu/gpu_engine.hpp"
+
+#ifndef LOCKSTEP_TOWER_CASES
+#define LOCKSTEP_TOWER_CASES 0
+#endif
+
+namespace lockstep::test {
+namespace {
+
+inline constexpr int kTowerCases = LOCKSTEP_TOWER_CASES > 0 ? LOCKSTEP_TOWER_CASES : 200;
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kG = 9.81;
+
+struct Snap {
+  double p[3], v[3];
+  bool asleep;
+};
+template <class T>
+Snap snap(const World<T>& w, int i) {
+  const Body<T>& b = w.body(i);
+  return {{d(b.p.x), d(b.p.y), d(b.p.z)}, {d(b.v.x), d(b.v.y), d(b.v.z)}, b.asleep};
+}
+Snap snap(const gpu::GpuWorld& w, int i) {
+  const BodySnapshot b = w.body(i);
+  return {{b.p[0], b.p[1], b.p[2]}, {b.v[0], b.v[1], b.v[2]}, b.asleep};
+}
+
+// One engine of each kind behind one interface: build, step, look.
+template <class T>
+struct Engine {
+  World<T> w;
+  explicit Engine(const Scene& s) : w(s) {}
+  void step() { w.step(); }
+  Snap body(int i) const { return snap(w, i); }
+  int count() const { return static_cast<int>(w.bodies().size()); }
+  static const char* name() { return Num<T>::kName; }
+};
+struct GpuEngine {
+  gpu::GpuWorld w;
+  static gpu::GpuOptions host() {
+    gpu::GpuOptions o;
+    o.backend = gpu::Backend::kHost;
+    return o;
+  }
+  explicit GpuEngine(const Scene& s) : w(s, host()) {}
+  void step() { w.step(); }
+  Snap body(int i) const { return snap(w, i); }
+  int count() const { return w.body_count(); }
+  static const char* name() { return "gpu"; }
+};
+
+template <class E>
+class StaticsTest : public ::testing::Test {};
+using StaticsEngines = ::testing::Types<Engine<Q16>, Engine<float>, Engine<double>, Engine<Mp>, GpuEngine>;
+TYPED_TEST_SUITE(StaticsTest, StaticsEngines);
+
+// A static slab (20 x 1 x 4 m) turned by `deg` about z, so that its top face
+// falls towards +x with normal n = (sin a, cos a, 0), and a unit cube (1 kg)
+// resting on that face 3 m up the slope, turned with it, moving down the
+// slope at v0 (m/s). Friction mu on both (eq 58: mu), no bounce. Returns the
+// unit vector down the slope through `down`.
+Scene ramp(double deg, double mu, double v0, double down[3]) {
+  const double a = deg * kPi / 180.0;
+  Scene s;
+  s.name = "ramp";
+  s.frames = 120;
+  s.ground.present = false;
+  const double n[3] = {std::sin(a), std::cos(a), 0.0};
+  down[0] = std::cos(a);
+  down[1] = -std::sin(a);
+  down[2] = 0.0;
+  BodyDesc slab;
+  slab.half_extents = {10.0, 0.5, 2.0};
+  slab.is_static = true;
+  slab.position = {0.0, 5.0, 0.0};
+  slab.orientation = {std::cos(a / 2), 0.0, 0.0, -std::sin(a / 2)};
+  slab.material = {0.0, mu};
+  BodyDesc cube;
+  cube.position = {n[0] - 3 * down[0], 5.0 + n[1] - 3 * down[1], 0.0};
+  cube.orientation = slab.orientation;
+  cube.velocity = {v0 * down[0], v0 * down[1], 0.0};
+  cube.material = {0.0, mu};
+  s.bodies = {slab, cube};
+  return s;
+}
+
+double along(const Snap& b, const double dir[3], bool velocity) {
+  const double* x = velocity ? b.v : b.p;
+  return x[0] * dir[0] + x[1] * dir[1] + x[2] * dir[2];
+}
+
+// Eq 116: friction below tan(a): the cube slides at g (sin a - mu cos a).
+TYPED_TEST(StaticsTest, RampSlidesAtNewtonsAcceleration) {
+  using E = TypeParam;
+  for (const double deg : {10.0, 20.0, 30.0}) {
+    const double a = deg * kPi / 180.0;
+    for (const double share : {0.0, 0.5, 0.8}) {  // mu as a share of tan(a)
+      const double mu = share * std::tan(a);
+      double down[3];
+      E e(ramp(deg, mu, 0.0, down));
+      for (int f = 0; f < 120; ++f) e.step();  // 2 s
+      const double want = kG * (std::sin(a) - mu * std::cos(a)) * 2.0;
+      const Snap c = e.body(1);
+      EXPECT_NEAR(along(c, down, true), want, 0.02 * want) << E::name() << ": " << deg << " degrees, mu " << mu;
+      EXPECT_FALSE(c.asleep) << E::name() << ": " << deg << " degrees, mu " << mu;
+    }
+  }
+}
+
+// Eq 116: friction above tan(a): a cube pushed down the ramp at 1 m/s stops
+// after v^2 / (2 g (mu cos a - sin a)) and sleeps; one released at rest holds.
+TYPED_TEST(StaticsTest, RampHoldsAndStopsWhereFrictionStopsIt) {
+  using E = TypeParam;
+  for (const double deg : {10.0, 20.0, 30.0}) {
+    const double a = deg * kPi / 180.0;
+    const double mu = 1.5 * std::tan(a) + 0.05;
+    for (const double v0 : {0.0, 1.0}) {
+      double down[3];
+      const Scene s = ramp(deg, mu, v0, down);
+      E e(s);
+      const double start = along(e.body(1), down, false);
+      bool slept = false;
+      for (int f = 0; f < 240 && !slept; ++f) {
+        e.step();
+        slept = e.body(1).asleep;
+      }
+      const double want = v0 * v0 / (2 * kG * (mu * std::cos(a) - std::sin(a)));
+      const double got = along(e.body(1), down, false) - start;
+      EXPECT_NEAR(got, want, std::max(0.02 * want, 0.002)) << E::name() << ": " << deg << " degrees, v0 " << v0;
+      EXPECT_TRUE(slept) << E::name() << ": " << deg << " degrees, v0 " << v0 << " not asleep by frame 240";
+    }
+  }
+}
+
+// A tower of the statics probe's kind (../shared/tools/statics_probe.py):
+// n cubes of one size, the first on the ground, each shifted horizontally
+// against the one below by up to 0.45 size in one of 6 directions; `margin`
+// (m) is its worst upper part's centre of mass against the edge of the cube
+// under it (negative: beyond the edge).
+struct Tower {
+  double size = 1.0, margin = 0.0;
+  Scene scene;
+};
+
+double worst_margin(const std::vector<double>& xs, const std::vector<double>& zs, double size) {
+  const std::size_t n = xs.size();
+  double worst = 1e9;
+  for (std::size_t k = 1; k < n; ++k) {
+    double cx = 0, cz = 0;
+    for (std::size_t j = k; j < n; ++j) cx += xs[j], cz += zs[j];
+    cx /= static_cast<double>(n - k);
+    cz /= static_cast<double>(n - k);
+    worst = std::min(worst, size / 2 - std::max(std::fabs(cx - xs[k - 1]), std::fabs(cz - zs[k - 1])));
+  }
+  return worst;
+}
+
+// Towers whose worst margin lies in [-0.12, -0.03] m (must fall).
+rc::Gen<Tower> falling_tower_gen() {
+  return rc::gen::exec([] {
+    auto unit = [] { return *rc::gen::inRange(0, 1000001) / 1e6; };
+    const int dirs[6] = {0, 90, 180, 270, 45, 135};
+    for (;;) {
+      Tower t;
+      t.size = 0.5 + 0.5 * unit();
+      const int n = *rc::gen::inRange(3, 9);
+      std::vector<double> xs{0.0}, zs{0.0};
+      for (int k = 1; k < n; ++k) {
+        const double r = 0.45 * t.size * unit();
+        const double ang = dirs[*rc::gen::inRange(0, 6)] * kPi / 180.0;
+        xs.push_back(xs.back() + r * std::cos(ang));
+        zs.push_back(zs.back() + r * std::sin(ang));
+      }
+      t.margin = worst_margin(xs, zs, t.size);
+      if (!(t.margin >= -0.12 && t.margin <= -0.03)) continue;
+      const double mass = 0.5 + 1.5 * unit();
+      for (int k = 0; k < n; ++k) {
+        BodyDesc b;
+        b.half_extents = {t.size / 2, t.size / 2, t.size / 2};
+        b.mass = mass;
+        b.position = {xs[static_cast<std::size_t>(k)], t.size / 2 + k * t.size, zs[static_cast<std::size_t>(k)]};
+        b.material = {0.1, 0.5};
+        t.scene.bodies.push_back(b);
+      }
+      t.scene.name = "overhang";
+      t.scene.ground.material = {0.1, 0.5};
+      return t;
+    }
+  });
+}
+
+template <class E>
+void check_falls(const Tower& t) {
+  E e(t.scene);
+  std::vector<double> y0;
+  for (int i = 0; i < e.count(); ++i) y0.push_back(e.body(i).p[1]);
+  double drop = 0;
+  for (int f = 0; f < 600 && drop < t.size / 2; ++f) {
+    e.step();
+    for (int i = 0; i < e.count(); ++i) drop = std::max(drop, y0[static_cast<std::size_t>(i)] - e.body(i).p[1]);
+  }
+  RC_ASSERT_MSG(drop >= t.size / 2, std::string(E::name()) + ": a tower of " + std::to_string(e.count()) +
+                                       " cubes of " + std::to_string(t.size) + " m, margin " +
+                                       std::to_string(t.margin * 100) + " cm, stood: largest drop " +
+                                       std::to_string(drop) + " m");
+}
+
+TEST(StaticsProp, OverhangBeyondTheEdgeFallsFixed) {
+  ::lockstep_test::check_prop([] { check_falls<Engine<Q16>>(*falling_tower_gen()); }, kTowerCases);
+}
+TEST(StaticsProp, OverhangBeyondTheEdgeFallsFloat) {
+  ::lockstep_test::check_prop([] { check_falls<Engine<float>>(*falling_tower_gen()); }, kTowerCases);
+}
+TEST(StaticsProp, OverhangBeyondTheEdgeFallsDouble) {
+  ::lockstep_test::check_prop([] { check_falls<Engine<double>>(*falling_tower_gen()); }, kTowerCases);
+}
+TEST(StaticsProp, OverhangBeyondTheEdgeFallsGpu) {
+  ::lockstep_test::check_prop([] { check_falls<GpuEngine>(*falling_tower_gen()); }, kTowerCases);
+}
+
+}  // namespace
+}  // namespace lockstep::test
