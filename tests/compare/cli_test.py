@@ -203,7 +203,7 @@ def engine_limits():
               "%s: checks.csv: fixed's run check names %s" % (name, field))
         pd = page_data(os.path.join(WORK, name + "-rep", "index.html"))
         check([x["label"] for x in pd["runs"]] == ["double", "float"], "%s: the replay page holds the engines that ran" % name)
-    # Without --engines (every engine, fixed among them) compare still judges the others.
+    # Two engines, fixed one of them: compare still reports and judges, exit 1 (not an abort).
     c = run("compare", cases[0][0], "--engines", "fixed,double", "--no-report", "--no-progress")
     check(c.returncode == 1 and "cannot run" in c.stdout and "double" in c.stdout, "compare fixed,double: fixed fails, exit 1")
 

@@ -5,7 +5,9 @@
 // field, the value, the limit and a fix, and World<Q16> would have stopped at
 // frame 0), the float and double limits, and every shipped scene accepted.
 #include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -226,6 +228,30 @@ TEST(SceneLimitsFloat, InverseInertiaAndMass) {
   EXPECT_EQ(number_type_of_engine("gpu"), "float");
   EXPECT_EQ(number_type_of_engine("gpu-jacobi"), "float");
   EXPECT_EQ(number_type_of_engine("fixed"), "fixed");
+}
+
+// The check is World<Q16>'s construction: for random bodies over the
+// format's whole range (masses and sizes log-uniform, any orientation, static
+// or not, positions up to the format's 30000 m), validate_scene_for("fixed")
+// refuses exactly the scenes whose World<Q16> stops at frame 0.
+RC_GTEST_PROP(SceneLimitsFixed, RefusedExactlyWhenWorldQ16StopsAtFrameZero, ()) {
+  auto log_uniform = [](double lo, double hi) {
+    const int k = *rc::gen::inRange(0, 1 << 20);
+    return lo * std::pow(hi / lo, k / double(1 << 20));
+  };
+  Scene s = cube(1, 0.5);
+  BodyDesc& b = s.bodies[0];
+  b.is_static = *rc::gen::inRange(0, 8) == 0;
+  b.mass = b.is_static ? 0.0 : log_uniform(1e-6, 1e4);
+  b.half_extents = {log_uniform(1.0 / 256, 1024), log_uniform(1.0 / 256, 1024), log_uniform(1.0 / 256, 1024)};
+  // Norm in [0.5, 1.33]: any rotation (q and -q are the same one).
+  b.orientation = {*rc::gen::inRange(50, 101) / 100.0, *rc::gen::inRange(-50, 51) / 100.0,
+                   *rc::gen::inRange(-50, 51) / 100.0, *rc::gen::inRange(-50, 51) / 100.0};
+  b.position = {*rc::gen::inRange(-30000, 30001) * 1.0, 2000.0, *rc::gen::inRange(-30000, 30001) * 1.0};
+  validate_scene(s);  // the format accepts it
+  const Refusal r = check("fixed", s);
+  RC_ASSERT(r.refused == !fixed_builds(s));
+  RC_ASSERT(!check("double", s).refused);
 }
 
 // Every shipped scene runs on every engine: the built-in scenes and the
