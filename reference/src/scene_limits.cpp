@@ -103,8 +103,8 @@ Finding check_body(const BodyDesc& d) {
 // bisection in log space: the last good value found.
 double boundary(double good, double bad, const std::function<bool(double)>& pred) {
   for (int i = 0; i < 200 && std::fabs(good - bad) > 1e-12 * std::fabs(good); ++i) {
-    const double mid = std::sqrt(good * bad);
-    if (mid == good || mid == bad) break;
+    const double mid = std::exp(0.5 * (std::log(good) + std::log(bad)));  // no underflow for subnormal ends
+    if (!(mid > std::fmin(good, bad) && mid < std::fmax(good, bad))) break;
     (pred(mid) ? good : bad) = mid;
   }
   return good;
