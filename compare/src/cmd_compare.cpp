@@ -1,7 +1,9 @@
 // `lockstep compare [SCENE] --engines fixed,double,...`: runs engines side by
 // side on one scene and judges their agreement (docs/COMPARE.md). Exit 0 when
 // they agree, 1 on disagreement (each failed check names engine, body, frame
-// and quantity), 2 on a usage or scene error.
+// and quantity; an engine that cannot run the scene, e.g. fixed on a body
+// Q16.16 cannot hold, is a failed column with the reason, and the others are
+// still judged), 2 on a usage or scene error.
 #include <algorithm>
 #include <cstdio>
 #include <memory>
@@ -11,6 +13,7 @@
 #include "lockstep/compare/report.hpp"
 #include "lockstep/compare/tolerances.hpp"
 #include "lockstep/compare/view.hpp"
+#include "lockstep/scene_limits.hpp"
 #include "progress.hpp"
 
 namespace lockstep::cli {
@@ -47,8 +50,23 @@ int compare_command(const CompareArgs& a) {
       throw std::invalid_argument("--engines: unknown engine '" + e + "'; available: " + join(all));
   }
   if (engines.size() < 2) throw std::invalid_argument("--engines: name at least two engines to compare");
-  const bool have_double = std::find(engines.begin(), engines.end(), "double") != engines.end();
-  const std::string baseline = a.baseline.empty() ? (have_double ? "double" : engines.front()) : a.baseline;
+  // The default baseline: double if listed, else the first; an engine that
+  // cannot run the scene (scene_limits.hpp) is passed over. It still runs as a
+  // failed column (record), and the comparison fails.
+  auto can_run = [&scene](const std::string& e) {
+    try {
+      validate_scene_for(number_type_of_engine(e), scene);
+      return true;
+    } catch (const SceneError&) {
+      return false;
+    }
+  };
+  const bool have_double = std::find(engines.begin(), engines.end(), "double") != engines.end() && can_run("double");
+  const auto first_runnable = std::find_if(engines.begin(), engines.end(), can_run);
+  const std::string baseline = !a.baseline.empty() ? a.baseline
+                               : have_double      ? "double"
+                               : first_runnable != engines.end() ? *first_runnable
+                                                                 : engines.front();
   if (std::find(engines.begin(), engines.end(), baseline) == engines.end())
     throw std::invalid_argument("--baseline: '" + baseline + "' is not among the engines compared (" + join(engines) + ")");
 
@@ -92,16 +110,22 @@ int compare_command(const CompareArgs& a) {
     const std::string dir = a.report.empty() ? "compare-" + scene.name : a.report;
     compare::write_report(dir, rec, verdict);
     std::string page_note;
+    compare::ViewPage view;
     if (page) {
-      compare::ViewPage view;
       view.title = "lockstep compare " + scene.name;
       view.scene = scene;
       view.stride = stride;
-      // The baseline first: the page measures divergence from runs[0].
+      // The baseline first: the page measures divergence from runs[0]. An
+      // engine that refused the scene has no frames and is left off the page
+      // (the summary and checks.csv say why).
+      auto refused = [&rec](std::size_t e) { return rec.engines[e].failed && rec.engines[e].failure.refused; };
       const std::size_t b = static_cast<std::size_t>(rec.baseline);
-      view.runs.push_back(views[b].take());
+      if (!refused(b)) view.runs.push_back(views[b].take());
       for (std::size_t e = 0; e < views.size(); ++e)
-        if (e != b) view.runs.push_back(views[e].take());
+        if (e != b && !refused(e)) view.runs.push_back(views[e].take());
+      if (view.runs.empty()) page = false;
+    }
+    if (page) {
       // The divergence and where each engine parts: the harness's (computed
       // in double on every frame), not the page's float32 copy.
       compare::ViewComparison c = compare::compare_runs(view.runs, tol);

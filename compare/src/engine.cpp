@@ -1,10 +1,12 @@
 #include "lockstep/compare/engine.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 #include <type_traits>
 
 #include "lockstep/fixed/q16_vec.hpp"
 #include "lockstep/math/num_mp.hpp"
+#include "lockstep/scene_limits.hpp"
 #if LOCKSTEP_HAVE_GPU_ENGINE
 #include "lockstep/gpu/gpu_engine.hpp"
 #endif
@@ -89,6 +91,12 @@ std::vector<std::string> engine_names_for(const Scene& scene) {
 
 std::unique_ptr<EngineRun> make_engine(std::string_view name, const Scene& scene) {
   if (const std::string why = engine_limitation(name, scene); !why.empty()) throw std::invalid_argument(why);
+  // A body whose derived quantities the engine's number type cannot hold
+  // (docs/SCENES.md "Ranges per number type"): refused here with the field
+  // and a fix, not at frame 0 with a RunError.
+  const auto accepted = accepted_engine_names();
+  if (std::find(accepted.begin(), accepted.end(), name) != accepted.end())
+    validate_scene_for(number_type_of_engine(name), scene);
   if (name == "fixed") return std::make_unique<WorldRun<Q16>>(scene);
   if (name == "float") return std::make_unique<WorldRun<float>>(scene);
   if (name == "double") return std::make_unique<WorldRun<double>>(scene);

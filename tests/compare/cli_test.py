@@ -152,6 +152,64 @@ check(part and d["comparison"]["parted_frame"][1] == int(part.group(1)) and d["c
 for f in ["divergence.svg", "energy.svg", "sleep_timeline.svg", "frames.csv"]:
     check(os.path.exists(os.path.join(WORK, "rep", f)), "the report still has " + f)
 
+
+def engine_limits():
+    """Issue 30: a scene the loader accepts but whose bodies the fixed engine's
+    Q16.16 cannot hold (docs/SCENES.md "Ranges per number type"): `run --engine
+    fixed` refuses it with the field, the value, the limit and a fix (exit 2),
+    double runs it, and `compare` shows fixed as a failed column with the
+    reason and still judges the others (exit 1)."""
+    def scene(name, body):
+        path = os.path.join(WORK, name + ".json")
+        with open(path, "w") as f:
+            json.dump({"format": "lockstep-scene", "version": 1, "name": name, "frames": 60,
+                       "bodies": [dict(body, position=[0, 2, 0]), {"position": [3, 0.5, 0]}]}, f)
+        return path
+    cases = [
+        (scene("tiny_mass", {"mass": 1e-05}), "bodies[0].mass",
+         ["bodies[0].mass = 1e-05 kg", "inverse mass 1/m = 100000 1/kg", "|x| < 32768", "use a mass of at least 0.000176 kg"]),
+        (scene("light_cube", {"mass": 1e-04}), "bodies[0].mass",
+         ["bodies[0].mass = 0.0001 kg", "inverse inertia I_x^-1", "= 60000 1/(kg m^2)", "use a mass of at least 0.000176 kg"]),
+        (scene("small_cube", {"half_extents": [0.00390625] * 3}), "bodies[0].half_extents",
+         ["bodies[0].half_extents = [0.00390625, 0.00390625, 0.00390625] m", "3/(h_y^2 + h_z^2) = 98304",
+          "make every half extent at least 0.00731 m"]),
+    ]
+    for path, field, parts in cases:
+        name = os.path.basename(path)
+        r = run("run", path, "--engine", "fixed", "--out", name + ".csv", "--no-progress")
+        check(r.returncode == 2, "%s: run --engine fixed exits 2 (got %d: %r)" % (name, r.returncode, r.stderr))
+        check(r.stderr.startswith("lockstep run: scene error: ") and r.stderr.count("\n") == 1,
+              "%s: one line on stderr, a scene error (got %r)" % (name, r.stderr))
+        for p in parts + ["or run on float or double"]:
+            check(p in r.stderr, "%s: the refusal says %r (got %r)" % (name, p, r.stderr))
+        check("overflow" not in r.stderr and "frame 0" not in r.stderr, "%s: refused before frame 0, not an overflow" % name)
+        check(not os.path.exists(os.path.join(WORK, name + ".csv")), "%s: no trajectory written" % name)
+        d = run("run", path, "--engine", "double", "--quiet", "--out", name + "-double.csv")
+        check(d.returncode == 0 and "60 frames" in d.stdout, "%s: double runs it (got %r %r)" % (name, d.stdout, d.stderr))
+        c = run("compare", path, "--engines", "fixed,float,double", "--report", name + "-rep", "--no-progress")
+        check(c.returncode == 1, "%s: compare exits 1, the comparison failed (got %d: %r)" % (name, c.returncode, c.stderr))
+        check(re.search(r"^fixed +[0-9.]+ +- +- +- +- +cannot run +FAILED$", c.stdout, re.M) is not None,
+              "%s: fixed is a failed column (got %r)" % (name, c.stdout))
+        check("FAILED, cannot run this scene: " in c.stdout and parts[0] in c.stdout,
+              "%s: the summary gives the reason" % name)
+        fl = re.search(r"^float .* never +(\d+)/(\d+)$", c.stdout, re.M)
+        check(fl is not None and fl.group(1) == fl.group(2) and int(fl.group(2)) > 0,
+              "%s: float is still judged against double, and agrees (got %r)" % (name, c.stdout))
+        check("DISAGREE: %s, 1 failed check" % os.path.splitext(name)[0] in c.stdout, "%s: one failed check, fixed's" % name)
+        rows = list(csv.DictReader(open(os.path.join(WORK, name + "-rep", "checks.csv"))))
+        fixed_rows = [x for x in rows if x["engine"] == "fixed"]
+        check(len(fixed_rows) == 1 and fixed_rows[0]["check"] == "run" and fixed_rows[0]["quantity"] == field and
+              fixed_rows[0]["pass"] == "0" and "cannot run this scene" in fixed_rows[0]["value"],
+              "%s: checks.csv: fixed's run check names %s" % (name, field))
+        pd = page_data(os.path.join(WORK, name + "-rep", "index.html"))
+        check([x["label"] for x in pd["runs"]] == ["double", "float"], "%s: the replay page holds the engines that ran" % name)
+    # Two engines, fixed one of them: compare still reports and judges, exit 1 (not an abort).
+    c = run("compare", cases[0][0], "--engines", "fixed,double", "--no-report", "--no-progress")
+    check(c.returncode == 1 and "cannot run" in c.stdout and "double" in c.stdout, "compare fixed,double: fixed fails, exit 1")
+
+
+engine_limits()
+
 if failures:
     print("%d check(s) failed" % len(failures))
     sys.exit(1)

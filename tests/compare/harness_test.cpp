@@ -16,6 +16,7 @@
 #include "lockstep/builtin_scenes.hpp"
 #include "lockstep/compare/harness.hpp"
 #include "lockstep/compare/report.hpp"
+#include "lockstep/scene_json.hpp"
 #include "scripted_engine.hpp"
 
 namespace {
@@ -367,6 +368,44 @@ TEST(EngineNames, EveryEngineRunsBothPairModels) {
       EXPECT_GT(run->body(4).p[1], run->body(3).p[1] + 0.9);           // onto the cube below, not through it
     }
   }
+}
+
+// Issue 30: an engine whose number type cannot hold the scene (fixed on a
+// 1e-5 kg cube) is refused by make_engine with a SceneError naming the field;
+// record() makes it a failed track from frame 0 (refused, no frames), judge()
+// fails its run check, and the other engines run and are judged as usual.
+TEST(Harness, EngineThatCannotRunTheSceneIsAFailedColumn) {
+  Scene scene = *builtin_scene("drop");
+  scene.frames = 30;
+  scene.bodies[0].mass = 1e-05;
+  try {
+    make_engine("fixed", scene);
+    FAIL() << "make_engine built a fixed engine for a 1e-5 kg cube";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.field, "bodies[0].mass");
+  }
+  const Recording rec = record(scene, std::vector<std::string>{"fixed", "float", "double"}, "double");
+  ASSERT_EQ(rec.engines.size(), 3u);
+  const EngineTrack& fixed = rec.engines[0];
+  EXPECT_EQ(fixed.name, "fixed");
+  EXPECT_TRUE(fixed.failed && fixed.failure.refused);
+  EXPECT_EQ(fixed.failure.frame, 0);
+  EXPECT_EQ(fixed.failure.body, 0);
+  EXPECT_EQ(fixed.failure.quantity, "bodies[0].mass");
+  EXPECT_NE(fixed.failure.message.find("inverse mass 1/m = 100000 1/kg"), std::string::npos) << fixed.failure.message;
+  EXPECT_TRUE(fixed.frames.empty());
+  EXPECT_FALSE(rec.engines[1].failed);
+  EXPECT_EQ(rec.engines[1].frames_run, 30);
+  const Verdict v = judge(rec, tolerances_for(scene));
+  EXPECT_FALSE(v.agree());
+  ASSERT_EQ(v.engines[0].findings.size(), 1u);
+  EXPECT_EQ(v.engines[0].findings[0].check, "run");
+  EXPECT_FALSE(v.engines[0].findings[0].pass);
+  EXPECT_GT(v.engines[1].checks, 0);
+  EXPECT_EQ(v.engines[1].failures, 0);
+  const std::string table = summary_table(rec, v, 20);
+  EXPECT_NE(table.find("cannot run"), std::string::npos) << table;
+  EXPECT_NE(table.find("FAILED, cannot run this scene: "), std::string::npos) << table;
 }
 
 }  // namespace

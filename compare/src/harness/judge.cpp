@@ -33,7 +33,10 @@ class Judging {
   }
 
   EngineVerdict run() {
-    trajectory();
+    // An engine that refused the scene (or a refused baseline) has no frames
+    // to measure: only its run check is reported.
+    const bool refused = (mine_.failed && mine_.failure.refused) || (base_.failed && base_.failure.refused);
+    if (!refused) trajectory();
     if (mine_.failed || base_.failed) {
       run_failures();
     } else if (tol_.judge == Judge::bodies) {
@@ -103,8 +106,9 @@ class Judging {
   // This engine stopped; the baseline's own stop is reported in its verdict.
   void run_failures() {
     if (!mine_.failed) return;
-    add("run", mine_.failure.quantity, mine_.failure.body, mine_.failure.frame, "stopped: " + mine_.failure.message, "ran",
-        "no run error", false);
+    add("run", mine_.failure.quantity, mine_.failure.body, mine_.failure.frame,
+        (mine_.failure.refused ? "cannot run this scene: " : "stopped: ") + mine_.failure.message, "ran", "no run error",
+        false);
   }
 
   void rest() {
@@ -216,7 +220,8 @@ Verdict judge(const Recording& rec, const CompareTolerances& t) {
       b.is_baseline = true;
       if (rec.engines[e].failed) {
         const RunFailure& f = rec.engines[e].failure;
-        b.findings.push_back({b.engine, "run", f.quantity, f.body, f.frame, "stopped: " + f.message, "-", "no run error", false});
+        b.findings.push_back({b.engine, "run", f.quantity, f.body, f.frame,
+                              (f.refused ? "cannot run this scene: " : "stopped: ") + f.message, "-", "no run error", false});
         b.checks = b.failures = 1;
       }
       v.engines.push_back(b);

@@ -2,10 +2,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <stdexcept>
 
 #include "lockstep/compare/harness.hpp"
 #include "lockstep/compare/resting.hpp"
+#include "lockstep/scene_json.hpp"
 
 namespace lockstep::compare {
 namespace {
@@ -52,10 +54,19 @@ void track_sleep(EngineTrack& t, const std::vector<BodySnapshot>& bodies, int fr
   }
 }
 
-}  // namespace
+// An engine that refused the scene (make_engine threw SceneError): body is
+// the index in the field's path "bodies[N]...", -1 without one.
+RunFailure refusal(const SceneError& err) {
+  int body = -1;
+  if (err.field.rfind("bodies[", 0) == 0) body = std::atoi(err.field.c_str() + 7);
+  return {0, body, err.field, err.what(), true};
+}
 
-Recording record(const Scene& scene, std::vector<std::unique_ptr<EngineRun>> engines, int baseline,
-                 const RecordOptions& options) {
+// record(): engines[e] null means the engine refused the scene
+// (refused[e] says why): its track is failed from frame 0 and holds no frames.
+Recording record_engines(const Scene& scene, std::vector<std::unique_ptr<EngineRun>> engines,
+                         const std::vector<std::string>& names, const std::vector<RunFailure>& refused, int baseline,
+                         const RecordOptions& options) {
   if (engines.empty()) throw std::invalid_argument("record: no engines");
   if (baseline < 0 || baseline >= static_cast<int>(engines.size()))
     throw std::invalid_argument("record: baseline index out of range");
@@ -68,6 +79,13 @@ Recording record(const Scene& scene, std::vector<std::unique_ptr<EngineRun>> eng
   std::vector<std::vector<BodySnapshot>> now(ne);
   for (std::size_t e = 0; e < ne; ++e) {
     EngineTrack& t = rec.engines[e];
+    if (!engines[e]) {
+      t.name = names.at(e);
+      t.description = names.at(e) + ": cannot run this scene";
+      t.failed = true;
+      t.failure = refused.at(e);
+      continue;
+    }
     t.name = engines[e]->name();
     t.description = engines[e]->description();
     t.asleep_intervals.resize(static_cast<std::size_t>(engines[e]->body_count()));
@@ -117,16 +135,31 @@ Recording record(const Scene& scene, std::vector<std::unique_ptr<EngineRun>> eng
   return rec;
 }
 
+}  // namespace
+
+Recording record(const Scene& scene, std::vector<std::unique_ptr<EngineRun>> engines, int baseline,
+                 const RecordOptions& options) {
+  for (const auto& e : engines)
+    if (!e) throw std::invalid_argument("record: a null engine");
+  return record_engines(scene, std::move(engines), {}, {}, baseline, options);
+}
+
 Recording record(const Scene& scene, const std::vector<std::string>& names, const std::string& baseline,
                  const RecordOptions& options) {
   std::vector<std::unique_ptr<EngineRun>> engines;
+  std::vector<RunFailure> refused(names.size());
   int base = -1;
   for (std::size_t i = 0; i < names.size(); ++i) {
     if (names[i] == baseline) base = static_cast<int>(i);
-    engines.push_back(make_engine(names[i], scene));
+    try {
+      engines.push_back(make_engine(names[i], scene));
+    } catch (const SceneError& err) {  // the engine's number type cannot hold the scene (scene_limits.hpp)
+      engines.push_back(nullptr);
+      refused[i] = refusal(err);
+    }
   }
   if (base < 0) throw std::invalid_argument("--baseline: '" + baseline + "' is not among the engines compared");
-  return record(scene, std::move(engines), base, options);
+  return record_engines(scene, std::move(engines), names, refused, base, options);
 }
 
 }  // namespace lockstep::compare

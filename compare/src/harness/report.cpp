@@ -214,7 +214,12 @@ std::string summary_table(const Recording& r, const Verdict& v, int max_failures
       parted = "frame " + std::to_string(ev.parted_frame) + ", body " + std::to_string(ev.parted_body) + " " + ev.parted_quantity;
     std::string checks = std::to_string(ev.checks - ev.failures) + "/" + std::to_string(ev.checks);
     if (ev.is_baseline) checks = ev.failures ? "FAILED" : "-";
-    if (ev.is_baseline) {
+    const bool refused = tr.failed && tr.failure.refused;  // no frames: no divergence to show
+    if (refused) {
+      parted = ev.is_baseline ? "(baseline) cannot run" : "cannot run";
+      checks = "FAILED";
+    }
+    if (ev.is_baseline || refused) {
       std::snprintf(line, sizeof line, "%-8s %9.4f %11s %11s %11s %11s  %-30s %8s\n", ev.engine.c_str(), ms, "-", "-", "-", "-",
                     parted.c_str(), checks.c_str());
     } else {
@@ -222,7 +227,8 @@ std::string summary_table(const Recording& r, const Verdict& v, int max_failures
                     ev.pos_rms, ev.ori_max, ev.ori_rms, parted.c_str(), checks.c_str());
     }
     o << line;
-    if (tr.failed) o << "         run stopped at frame " << tr.failure.frame << ": " << tr.failure.message << "\n";
+    if (tr.failed && tr.failure.refused) o << "         FAILED, cannot run this scene: " << tr.failure.message << "\n";
+    else if (tr.failed) o << "         run stopped at frame " << tr.failure.frame << ": " << tr.failure.message << "\n";
   }
   const std::vector<Finding> fails = v.failures();
   if (t.judge == Judge::statistics) {

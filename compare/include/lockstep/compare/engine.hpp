@@ -82,7 +82,9 @@ std::string engine_limitation(std::string_view name, const Scene& scene);
 // engine_names() less those with a limitation for `scene`.
 std::vector<std::string> engine_names_for(const Scene& scene);
 // Throws std::invalid_argument naming the allowed engines, or the engine's
-// limitation for this scene.
+// limitation for this scene; throws SceneError (validate_scene_for,
+// lockstep/scene_limits.hpp) when the engine's number type cannot represent a
+// body of the scene, naming the field, the value, the limit and a fix.
 std::unique_ptr<EngineRun> make_engine(std::string_view name, const Scene& scene);
 
 // The CPU engines: a World<T> behind EngineRun.

@@ -28,10 +28,14 @@ struct FrameStats {
   int asleep = 0;      // bodies asleep
 };
 
-// A run that stopped (RunError): where and why.
+// A run that stopped (RunError): where and why; or, refused, an engine that
+// cannot run the scene at all (make_engine threw SceneError: its number type
+// cannot hold a body, lockstep/scene_limits.hpp): frame 0, quantity the
+// field's path ("bodies[0].mass"), message the SceneError's.
 struct RunFailure {
   int frame = -1, body = -1;
   std::string quantity, message;
+  bool refused = false;
 };
 
 struct EngineTrack {
@@ -67,7 +71,9 @@ struct RecordOptions {
 // (its failure is recorded); the others go on.
 Recording record(const Scene& scene, std::vector<std::unique_ptr<EngineRun>> engines, int baseline,
                  const RecordOptions& options = {});
-// The same, making the engines by name (make_engine).
+// The same, making the engines by name (make_engine). An engine that refuses
+// the scene (SceneError) is recorded as failed at frame 0 with no frames
+// (failure.refused); the others run and are judged as usual.
 Recording record(const Scene& scene, const std::vector<std::string>& engine_names, const std::string& baseline,
                  const RecordOptions& options = {});
 
