@@ -990,7 +990,7 @@ struct ContactsK {
       leaning[i] = leans(support != kNoSupport, loaded, over_contacts) ? 1 : 0;  // eq 115
     }
     if (holds != nullptr) {  // eq 116
-      const bool held_up = support == kNoSupport ||
+      const bool held_up = support == kNoSupport || loaded ||
                            friction_holds(sc.gravity ? sc.P.gravity : Vec3<float>{}, n_s, support_mu);
       holds[i] = held_up ? 1 : 0;
       can_rest[i] = held_up ? 1 : 0;

@@ -220,7 +220,8 @@ void World<T>::narrow_phase() {
   std::sort(settle_order_.begin(), settle_order_.end(), [&](int a, int b) {
     return settles_before(bodies_[static_cast<std::size_t>(a)].p.y, a, bodies_[static_cast<std::size_t>(b)].p.y, b);
   });
-  // eq 116: friction holds it on its first support contact's friction (eq 58).
+  // eq 116: friction holds it on its first support contact's friction (eq 58),
+  // or something holds it from the side or from above (eq 112's holds).
   const Vec3<T> g = scene_.effects.gravity ? P_.gravity : Vec3<T>{};
   auto material_mu = [&](int idx) {
     return idx >= 0 ? bodies_[static_cast<std::size_t>(idx)].friction
@@ -232,7 +233,7 @@ void World<T>::narrow_phase() {
     const auto i = static_cast<std::size_t>(idx);
     const Contact<T>& c = contacts_[static_cast<std::size_t>(support_[i])];
     const T mu = scene_.effects.friction ? combined_friction(material_mu(c.a), material_mu(c.b)) : T{};
-    holds_[i] = friction_holds(g, support_n_[i], mu) ? 1 : 0;
+    holds_[i] = loaded[i] != 0 || friction_holds(g, support_n_[i], mu) ? 1 : 0;
     can_rest_[i] = holds_[i];
   }
   if (!oriented) return;
