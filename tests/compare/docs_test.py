@@ -67,13 +67,13 @@ if WHAT == "constants":
             check(same, "SCENES.md's default of %s is the code's %s (the table says %s)" % (key, value, doc[key]))
     for key in doc:
         check(key in code, "SCENES.md's constant %s exists in the code" % key)
-    count = re.search(r"All (\d+):", section)
+    count = re.search(r"All (\d+)\b", section)
     check(count is not None and int(count.group(1)) == len(code),
           "SCENES.md says 'All %d' constants (says %s)" % (len(code), count and count.group(1)))
     print("constants: %d in the code, %d in SCENES.md's table" % (len(code), len(doc)))
 
     # Every exit code of `lockstep --help` is in the README (and SCENES/COMPARE need not repeat it).
-    codes = re.findall(r"(?:^|; |: )(\d) ", run("--help").stdout.split("exit codes:")[-1])
+    codes = re.findall(r"(?:^\s*|; )(\d) ", run("--help").stdout.split("exit codes:")[-1])
     check(sorted(set(codes)) == ["0", "1", "2", "3"], "lockstep --help lists exit codes 0-3 (got %s)" % codes)
     for c in codes:
         check(re.search(r"\b%s (success|the engines disagree|a usage|a run stopped)" % c, readme) is not None,
