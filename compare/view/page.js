@@ -278,9 +278,10 @@
   // The camera of column c of `columns` (side by side) and its viewport.
   function columnCamera(columns) {
     const w = container.clientWidth, h = container.clientHeight;
-    camera.aspect = w / columns / Math.max(1, h);
+    const cw = columns > 1 ? Math.floor(w / columns) : w;
+    camera.aspect = cw / Math.max(1, h);
     camera.updateProjectionMatrix();
-    return [w / columns, h];
+    return [cw, h];
   }
 
   function render() {
@@ -295,9 +296,14 @@
       renderer.render(scene, camera);
       return;
     }
-    const cw = w / runs.length;
+    // Whole pixels per column (a fractional width would leave a seam that no
+    // column clears); the canvas is cleared whole first.
+    const cw = Math.floor(w / runs.length);
     camera.aspect = cw / Math.max(1, h);
     camera.updateProjectionMatrix();
+    renderer.setScissorTest(false);
+    renderer.setViewport(0, 0, w, h);
+    renderer.clear();
     renderer.setScissorTest(true);
     for (let c = 0; c < runs.length; ++c) {
       for (const [r, run] of runs.entries()) run.group.visible = r === c;
@@ -347,7 +353,7 @@
   function columnLabels() {
     const cols = $('columns');
     cols.innerHTML = '';
-    if (mode !== 'side' || runs.length < 2) return;
+    if (mode !== 'side' || runs.length < 2 || isolated) return;  // isolated: the bare 3D view
     for (const r of runs) {
       const d = document.createElement('div');
       d.textContent = r.label;
@@ -619,7 +625,8 @@
       borderColor: '#ff4d4d', borderDash: [4, 3], backgroundColor: '#ff4d4d' });
     chart('chart-divergence', 'divergence from ' + base.label + ' (max over bodies; log scale, 0 drawn at 1e-9 m)', 'm', sets,
       { scales: { x: { type: 'linear', title: { display: true, text: 'frame' } },
-                  y: { type: 'logarithmic', min: FLOOR, title: { display: true, text: 'm (log)' } } } });
+                  y: { type: 'logarithmic', min: FLOOR, title: { display: true, text: 'm (log)' },
+                       ticks: { callback: (v) => { const e = Math.log10(v); return Math.abs(e - Math.round(e)) < 1e-6 ? '1e' + Math.round(e) : ''; } } } } });
   } else {
     $('chart-divergence-wrap').style.display = 'none';
   }

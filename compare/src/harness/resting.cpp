@@ -1,8 +1,10 @@
 #include "lockstep/compare/resting.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "lockstep/math/num.hpp"
 #include "lockstep/math/vec.hpp"
@@ -48,15 +50,35 @@ double distance_to(const Box& b, const double c[3]) {
   return std::sqrt(d2);
 }
 
-// Body j (below) supports body i: a corner of one lies within `gap` of the
-// other, between their centres' heights (below i's centre, above j's: a
-// neighbour touching side to side is no support). The boxes may be tilted.
+// Points on the faces of b: near each corner, on each of the three faces
+// that meet there, 10 % of the face inside its edges.
+std::vector<std::array<double, 3>> face_points(const Box& b) {
+  std::vector<std::array<double, 3>> out;
+  for (int k = 0; k < 8; ++k)
+    for (int m = 0; m < 3; ++m) {
+      double local[3];
+      for (int a = 0; a < 3; ++a) local[a] = ((k >> a) & 1 ? b.h[a] : -b.h[a]) * (a == m ? 1.0 : 0.9);
+      std::array<double, 3> w{};
+      for (int a = 0; a < 3; ++a) {
+        w[a] = b.p[a];
+        for (int i = 0; i < 3; ++i) w[a] += b.R[a][i] * local[i];
+      }
+      out.push_back(w);
+    }
+  return out;
+}
+
+// Body j (below) supports body i: a point on a face of one lies within `gap`
+// of the other, between their centres' heights (below i's centre, above
+// j's: a neighbour touching side to side is no support; face points, not
+// corners, so that boxes meeting only edge to edge are no support either).
+// The boxes may be tilted (a cube resting on a tilted cube, in a heap).
 bool supports(const Box& i, const Box& j, double gap) {
   if (!(j.p[1] < i.p[1])) return false;
-  for (const auto& c : i.corners)
-    if (c[1] < i.p[1] && c[1] > j.p[1] && distance_to(j, c) <= gap) return true;
-  for (const auto& c : j.corners)
-    if (c[1] > j.p[1] && c[1] < i.p[1] && distance_to(i, c) <= gap) return true;
+  for (const auto& c : face_points(i))
+    if (c[1] < i.p[1] && c[1] > j.p[1] && distance_to(j, c.data()) <= gap) return true;
+  for (const auto& c : face_points(j))
+    if (c[1] > j.p[1] && c[1] < i.p[1] && distance_to(i, c.data()) <= gap) return true;
   return false;
 }
 

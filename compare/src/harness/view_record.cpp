@@ -310,7 +310,7 @@ ViewComparison compare_runs(const std::vector<ViewRun>& runs, const CompareToler
         const float* a = &base.state[(kb * n + i) * kViewFloats];
         const float* b = &r.state[(kr * n + i) * kViewFloats];
         const double dp = std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
-        if (dp > final_distance) { final_distance = dp; final_body = static_cast<int>(i); }
+        if (dp > final_distance || final_body < 0) { final_distance = dp; final_body = static_cast<int>(i); }
       }
     }
     c.final_distance.push_back(final_distance);
