@@ -163,7 +163,10 @@
         mat.color.lerp(new THREE.Color(COLORS[r % COLORS.length]), 0.5);
       }
       const mesh = new THREE.InstancedMesh(new THREE.BoxBufferGeometry(1, 1, 1), mat, Math.max(1, N));
-      mesh.visible = (onlyKind === null || onlyKind === kind) && (onlyRun === null || onlyRun === r);
+      // A group left out by #only/#run is still drawn, writing no colour and
+      // no depth: the draw calls are those of the whole page, so the test
+      // sees what the page draws (r111's binding depends on the order).
+      mesh.userData.shown = (onlyKind === null || onlyKind === kind) && (onlyRun === null || onlyRun === r);
       if (mesh.instanceMatrix.setUsage) mesh.instanceMatrix.setUsage(THREE.DynamicDrawUsage);
       mesh.frustumCulled = false;
       mesh.count = 0;
@@ -253,7 +256,8 @@
         const m = run.meshes[kind].material;
         m.transparent = ghost;
         m.opacity = !ghost ? 1 : kind === 'diverged' ? 0.6 : 0.35;
-        m.depthWrite = !m.transparent;
+        m.depthWrite = !m.transparent && run.meshes[kind].userData.shown;
+        m.colorWrite = run.meshes[kind].userData.shown;
         // A ghost coinciding with the baseline's box is drawn in front of it
         // (no stripes of one and the other, z-fighting).
         m.polygonOffset = ghost;
@@ -434,7 +438,7 @@
     if (isolated) st.footprints = footprints();
     const shown = {};
     for (const [r, run] of runs.entries())
-      for (const kind in run.meshes) if (run.meshes[kind].visible) shown[r + ':' + kind] = run.meshes[kind].count;
+      for (const kind in run.meshes) if (run.meshes[kind].userData.shown) shown[r + ':' + kind] = run.meshes[kind].count;
     st.drawn = shown;
     $('lockstep-status').textContent = JSON.stringify(st);
     return st;
