@@ -39,7 +39,7 @@ struct CompareArgs {
 int compare_command(const CompareArgs& a) {
   Scene scene = resolve_scene(a.scene);
   if (a.frames >= 0) scene.frames = a.frames;
-  if (a.engines.empty())
+  if (a.engines.empty() && !a.quiet)
     for (const std::string& e : engine_names())
       if (const std::string why = engine_limitation(e, scene); !why.empty())
         std::fprintf(stderr, "lockstep compare: %s is left out: %s\n", e.c_str(), why.c_str());
@@ -78,9 +78,10 @@ int compare_command(const CompareArgs& a) {
     return 0;
   }
   const bool quiet = a.quiet;
+  set_quiet_engines(quiet);  // no gpu host-build note either
   if (!quiet) {
-    std::fprintf(stderr, "lockstep compare: scene '%s' (%zu bodies, %d frames), engines %s, baseline %s, tolerances %s\n",
-                 scene.name.c_str(), scene.bodies.size(), scene.frames, join(engines).c_str(), baseline.c_str(),
+    std::fprintf(stderr, "lockstep compare: scene '%s' (%s, %d frames), engines %s, baseline %s, tolerances %s\n",
+                 scene.name.c_str(), count_of(static_cast<long long>(scene.bodies.size()), "body", "bodies").c_str(), scene.frames, join(engines).c_str(), baseline.c_str(),
                  tol_file.empty() ? "built in (docs/COMPARE.md)" : tol_file.c_str());
     if (std::find(engines.begin(), engines.end(), "mp") != engines.end() && scene.bodies.size() > 100)
       std::fprintf(stderr, "note: the mp engine is 30-70x slower than double; on %zu bodies this takes a while "
@@ -177,7 +178,8 @@ std::function<int()> define(CLI::App& app) {
   app.add_option("--report", a->report, "report folder (default: compare-SCENE): CSVs, SVGs and index.html, the replay page");
   app.add_option("--max-failures", a->max_failures, "failed checks listed in the summary")->check(integer_in(0, 1'000'000))
       ->capture_default_str();
-  app.add_option("--page-mb", a->page_mb, "MiB of trajectories the replay page holds at most; above, every k-th frame")
+  app.add_option("--page-mb,--max-mb", a->page_mb, "MiB of trajectories the replay page holds at most; above, every k-th "
+                                                  "frame (--max-mb: as in view)")
       ->check(integer_in(1, 4096))->capture_default_str();
   app.add_flag("--no-report", a->no_report, "write no report folder");
   app.add_flag("--no-page", a->no_page, "no index.html in the report");

@@ -81,6 +81,7 @@ int run_command(const RunOptions& o) {
   if (o.raw && o.engine != "fixed") throw std::invalid_argument("--raw: only the fixed engine has raw Q16.16 state");
   const std::string out_path = o.out.empty() ? scene.name + "-" + o.engine + "." + o.format : o.out;
 
+  set_quiet_engines(o.quiet);
   std::unique_ptr<EngineRun> engine = make_engine(o.engine, scene);
   std::ofstream file;
   std::ostream* out = &std::cout;
@@ -94,8 +95,9 @@ int run_command(const RunOptions& o) {
   if (!jsonl) write_csv_header(*out);
   if (hashes) hashes << "frame,hash\n";
   if (!o.quiet)
-    std::fprintf(stderr, "lockstep run: scene '%s' (%zu bodies, %d frames) on %s\n", scene.name.c_str(), scene.bodies.size(),
-                 scene.frames, engine->description().c_str());
+    std::fprintf(stderr, "lockstep run: scene '%s' (%s, %d frames) on %s\n", scene.name.c_str(),
+                 count_of(static_cast<long long>(scene.bodies.size()), "body", "bodies").c_str(), scene.frames,
+                 engine->description().c_str());
   compare::ViewRecorder record(scene.name + "-" + o.engine, o.engine, o.contacts, false);
   record.set_static_bodies(static_cast<int>(
       std::count_if(scene.bodies.begin(), scene.bodies.end(), [](const BodyDesc& b) { return b.is_static; })));
@@ -122,17 +124,18 @@ int run_command(const RunOptions& o) {
     // One line; on stderr when the trajectory goes to stdout.
     char line[512];
     std::snprintf(line, sizeof line,
-                  "%s %s: %d frames, %.3f ms/step, hash %s, all asleep at %s, worst penetration %s\n", scene.name.c_str(),
-                  o.engine.c_str(), engine->frame(), ms, hash_hex(engine->state_hash()).c_str(),
-                  asleep_at >= 0 ? ("frame " + std::to_string(asleep_at)).c_str() : "never",
+                  "%s %s: %d frames, %s ms/step, hash %s, %s, worst penetration %s\n", scene.name.c_str(),
+                  o.engine.c_str(), engine->frame(), significant(ms).c_str(), hash_hex(engine->state_hash()).c_str(),
+                  asleep_at >= 0 ? ("all asleep at frame " + std::to_string(asleep_at)).c_str() : "not all asleep",
                   record.run().has_contacts ? penetration_text(record.worst_penetration()).c_str() : "n/a (engine reports no contacts)");
     std::fputs(line, out_path == "-" ? stderr : stdout);
     return 0;
   }
   // The summary; on stderr when the trajectory goes to stdout.
   std::FILE* summary = out_path == "-" ? stderr : stdout;
-  std::fprintf(summary, "scene %s, engine %s: %d frames, %d bodies, %.3f ms/step (stepping only), final hash %s, ",
-               scene.name.c_str(), o.engine.c_str(), engine->frame(), engine->body_count(), ms,
+  std::fprintf(summary, "scene %s, engine %s: %d frames, %s, %s ms/step (stepping only), final hash %s, ",
+               scene.name.c_str(), o.engine.c_str(), engine->frame(), count_of(engine->body_count(), "body", "bodies").c_str(),
+               significant(ms).c_str(),
                hash_hex(engine->state_hash()).c_str());
   if (asleep_at >= 0) std::fprintf(summary, "all asleep at frame %d\n", asleep_at);
   else std::fprintf(summary, "not all asleep\n");

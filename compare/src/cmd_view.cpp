@@ -62,18 +62,32 @@ int view_command(const ViewArgs& a) {
   const std::string html = compare::view_html(page, compare::load_view_libraries());
   compare::write_file(out, html);
   const std::size_t kept = page.runs.front().frames.size();
-  std::printf("view: %s (%zu run%s of scene '%s', %zu bodies, %zu frames kept%s; %.2f MiB of trajectories as float32, "
+  std::printf("view: %s (%zu run%s of scene '%s', %s, %zu frames kept%s; %.2f MiB of trajectories as float32, "
               "page %.2f MiB)\n",
-              out.c_str(), page.runs.size(), page.runs.size() == 1 ? "" : "s", page.scene.name.c_str(), page.scene.bodies.size(),
+              out.c_str(), page.runs.size(), page.runs.size() == 1 ? "" : "s", page.scene.name.c_str(),
+              count_of(static_cast<long long>(page.scene.bodies.size()), "body", "bodies").c_str(),
               kept, stride == 1 ? "" : (", 1 written frame in " + std::to_string(stride)).c_str(),
               static_cast<double>(compare::view_data_bytes(page)) / (1 << 20), static_cast<double>(html.size()) / (1 << 20));
   if (page.comparison) {
     const compare::ViewComparison& c = *page.comparison;
-    for (std::size_t r = 1; r < page.runs.size(); ++r)
+    const std::size_t base_frames = page.runs.front().frames.size();
+    std::printf("  trajectory tolerance %g m, %g rad (as `lockstep compare`); rest tolerance %g m for the final pose\n",
+                c.position_tolerance, c.orientation_tolerance, c.rest_position_tolerance);
+    for (std::size_t r = 1; r < page.runs.size(); ++r) {
+      const std::string common =
+          static_cast<std::size_t>(c.common_frames[r]) == base_frames
+              ? std::string("every kept frame")
+              : "the " + std::to_string(c.common_frames[r]) + " frames both runs hold (of " + std::to_string(base_frames) +
+                    " kept; written with different --every)";
       std::printf("  %s parts from %s %s\n", page.runs[r].label.c_str(), page.runs[0].label.c_str(),
-                  c.parted_frame[r] < 0 ? "nowhere (within the tolerances on every kept frame)"
+                  c.parted_frame[r] < 0 ? ("nowhere (within the trajectory tolerance on " + common + ")").c_str()
                                         : ("at frame " + std::to_string(c.parted_frame[r]) + " (body " +
-                                           std::to_string(c.parted_body[r]) + ")").c_str());
+                                           std::to_string(c.parted_body[r]) + "; compared on " + common + ")").c_str());
+      if (c.final_distance[r] >= 0)
+        std::printf("    final pose: %.3g m from %s at most (body %d), %s the rest tolerance %g m\n", c.final_distance[r],
+                    page.runs[0].label.c_str(), c.final_body[r],
+                    c.final_distance[r] > c.rest_position_tolerance ? "beyond" : "within", c.rest_position_tolerance);
+    }
     if (!c.note.empty()) std::printf("  %s\n", c.note.c_str());
   }
   return 0;
@@ -84,7 +98,8 @@ std::function<int()> define(CLI::App& app) {
   app.add_option("RUN", a->runs, "trajectory CSVs written by `lockstep run` (each with its FILE.run.json); two or more "
                                  "runs of one scene are compared, the first as the baseline")->required();
   app.add_option("--out", a->out, "the page (default: RUN with .html for one run, view-SCENE.html for several)");
-  app.add_option("--max-mb", a->max_mb, "MiB of trajectories the page holds at most; above, every k-th written frame")
+  app.add_option("--page-mb,--max-mb", a->max_mb, "MiB of trajectories the page holds at most; above, every k-th "
+                                                  "written frame (--max-mb: the old name)")
       ->check(integer_in(1, 4096))->capture_default_str();
   app.add_option("--title", a->title, "the page's title (default: lockstep view SCENE)");
   app.add_option("--tolerances", a->tolerances, "tolerances JSON file for the divergence marks (docs/COMPARE.md; default: "

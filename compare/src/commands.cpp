@@ -2,16 +2,34 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <exception>
 #include <sstream>
 #include <stdexcept>
 
 #include "lockstep/builtin_scenes.hpp"
+#include "lockstep/compare/engine.hpp"
 #include "lockstep/scene_json.hpp"
 #include "lockstep/world.hpp"
 
+const char* lockstep_build_commit();  // commit.cpp, written by compare/commit.cmake
+
 namespace lockstep::cli {
+
+std::string count_of(long long n, const std::string& one, const std::string& many) {
+  return std::to_string(n) + " " + (n == 1 ? one : many);
+}
+
+std::string significant(double v, int digits) {
+  if (!std::isfinite(v)) return std::to_string(v);
+  if (v == 0) return "0";
+  const int magnitude = static_cast<int>(std::floor(std::log10(std::fabs(v))));
+  const int decimals = std::max(0, digits - 1 - magnitude);
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  return buf;
+}
 
 std::vector<Command>& commands() {
   static std::vector<Command> all;
@@ -77,10 +95,48 @@ std::string join(const std::vector<std::string>& v, const std::string& sep) {
 namespace {
 
 void print_usage() {
-  std::printf("usage: lockstep COMMAND [options]   (lockstep COMMAND --help: its options, defaults and an example)\n\n"
+  std::printf("usage: lockstep COMMAND [options]   (lockstep COMMAND --help: its options, defaults and an example)\n"
+              "       lockstep --version\n\n"
               "commands:\n");
   for (const auto& c : commands()) std::printf("  %-10s %s\n", c.name.c_str(), c.summary.c_str());
-  std::printf("\nWith no command, `lockstep run` runs the default scene on the fixed engine.\n");
+  std::printf("\nWith no command, `lockstep run` runs the default scene on the fixed engine.\n\n%s.\n", kExitCodes);
+}
+
+void print_version() {
+  std::printf("lockstep %s\ncommit %s\nengines %s (also: %s)\ngpu engine: %s\n", LOCKSTEP_VERSION,
+              lockstep_build_commit(), join(engine_names(), ", ").c_str(), join(engine_variants(), ", ").c_str(),
+              gpu_build_description().c_str());
+}
+
+// Levenshtein distance, for "did you mean".
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diag = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diag = up;
+    }
+  }
+  return row[b.size()];
+}
+
+// The option of `app` nearest to `given` ("--engin" -> "--engine"), or "".
+std::string nearest_option(const CLI::App& app, const std::string& given) {
+  std::string key = given.substr(0, given.find('='));
+  std::string best;
+  std::size_t best_d = std::string::npos;
+  for (const CLI::Option* o : app.get_options())
+    for (const std::string& l : o->get_lnames()) {
+      const std::string name = "--" + l;
+      std::size_t d = edit_distance(key, name);
+      if (name.rfind(key, 0) == 0 || key.rfind(name, 0) == 0) d = std::min<std::size_t>(d, 1);  // a prefix
+      if (d < best_d) { best_d = d; best = name; }
+    }
+  return best_d <= std::max<std::size_t>(2, key.size() / 3) ? best : "";
 }
 
 // The option names (long form) of a command, for "unknown option" messages.
@@ -98,8 +154,20 @@ std::string usage_error(const CLI::App& app, const CLI::ParseError& e) {
   std::string what = e.what();
   if (dynamic_cast<const CLI::ExtrasError*>(&e)) {
     std::string extra = what.substr(what.find(": ") == std::string::npos ? 0 : what.find(": ") + 2);
-    const bool option = !extra.empty() && extra[0] == '-';
-    if (option) return "unknown option " + extra + "; options: " + option_names(app);
+    // CLI11 took the arguments last first: put them back in command-line order.
+    std::vector<std::string> words = split_list([&] {
+      std::string s = extra;
+      std::replace(s.begin(), s.end(), ' ', ',');
+      return s;
+    }());
+    std::reverse(words.begin(), words.end());
+    extra = join(words, " ");
+    const auto first_option = std::find_if(words.begin(), words.end(), [](const std::string& w) { return w.size() > 1 && w[0] == '-'; });
+    if (first_option != words.end()) {
+      const std::string near = nearest_option(app, *first_option);
+      return "unknown option " + *first_option + (near.empty() ? "" : "; did you mean " + near + "?") +
+             " (options: " + option_names(app) + ")";
+    }
     std::vector<std::string> positionals;
     for (const CLI::Option* o : app.get_options())
       if (o->get_positional()) positionals.push_back(o->get_name() + (o->get_items_expected_max() > 1 ? "..." : ""));
@@ -127,17 +195,33 @@ int run_command_line(const std::vector<std::string>& args) {
     print_usage();
     return 0;
   }
+  if (name == "--version" || name == "-V" || name == "version") {
+    print_version();
+    return 0;
+  }
   const auto& all = commands();
   const auto it = std::find_if(all.begin(), all.end(), [&](const Command& c) { return c.name == name; });
   if (it == all.end()) {
     std::vector<std::string> names;
     for (const auto& c : all) names.push_back(c.name);
-    std::fprintf(stderr, "lockstep: unknown command '%s'; commands: %s (lockstep --help)\n", name.c_str(),
-                 join(names, ", ").c_str());
+    std::string near;
+    for (const std::string& n : names)
+      if (edit_distance(name, n) <= 2) near = n;
+    if (!name.empty() && name[0] == '-' && name != "--version") {
+      // An option before any command belongs to `run` (the default command).
+      const auto run_it = std::find_if(all.begin(), all.end(), [](const Command& c) { return c.name == "run"; });
+      if (run_it != all.end()) {
+        std::vector<std::string> with_run{"run"};
+        with_run.insert(with_run.end(), args.begin(), args.end());
+        return run_command_line(with_run);
+      }
+    }
+    std::fprintf(stderr, "lockstep: unknown command '%s'%s; commands: %s (lockstep --help)\n", name.c_str(),
+                 near.empty() ? "" : ("; did you mean " + near + "?").c_str(), join(names, ", ").c_str());
     return 2;
   }
   CLI::App app(it->summary, "lockstep " + it->name);
-  app.footer("Example:\n" + it->example);
+  app.footer("Example:\n" + it->example + "\n" + kExitCodes + ".");
   app.get_formatter()->column_width(34);
   std::function<int()> run = it->define(app);
   std::vector<std::string> rest(args.empty() ? args.begin() : args.begin() + 1, args.end());

@@ -34,6 +34,18 @@ Scene resolve_scene(const std::string& arg);
 CLI::Validator integer_in(long long lo, long long hi);
 CLI::Validator one_of(const std::vector<std::string>& allowed);
 
+// "1 body", "2 bodies": n and the word for n.
+std::string count_of(long long n, const std::string& one, const std::string& many);
+// v with `digits` significant digits, without an exponent: 0.0123, 1.23, 123
+// (for times such as ms/step, from tiny scenes to large ones).
+std::string significant(double v, int digits = 3);
+
+// The exit codes of every command, as --help and the README list them.
+inline constexpr const char* kExitCodes =
+    "exit codes: 0 success; 1 the engines disagree (compare), a check failed (vectors verify, certify) or the "
+    "accuracy is out of bounds; 2 a usage, scene or file error (the message names the option or field and the fix); "
+    "3 a run stopped (an engine reported a state it cannot go on from, e.g. a non-finite value)";
+
 // Splits "a,b,c" into its non-empty names.
 std::vector<std::string> split_list(const std::string& list);
 std::string join(const std::vector<std::string>& v, const std::string& sep = ",");

@@ -89,6 +89,21 @@ std::vector<std::string> engine_names_for(const Scene& scene) {
   return out;
 }
 
+namespace {
+bool quiet_engines = false;
+}
+
+void set_quiet_engines(bool quiet) { quiet_engines = quiet; }
+
+std::string gpu_build_description() {
+#if LOCKSTEP_HAVE_GPU_ENGINE
+  if (!gpu::built_with_cuda()) return "host build only (built without CUDA)";
+  return gpu::cuda_device_available() ? "CUDA (a device is present)" : "CUDA (no device found: runs the host build)";
+#else
+  return "not built";
+#endif
+}
+
 std::unique_ptr<EngineRun> make_engine(std::string_view name, const Scene& scene) {
   if (const std::string why = engine_limitation(name, scene); !why.empty()) throw std::invalid_argument(why);
   // A body whose derived quantities the engine's number type cannot hold
@@ -102,8 +117,8 @@ std::unique_ptr<EngineRun> make_engine(std::string_view name, const Scene& scene
   if (name == "double") return std::make_unique<WorldRun<double>>(scene);
   if (name == "mp") return std::make_unique<WorldRun<Mp>>(scene);
 #if LOCKSTEP_HAVE_GPU_ENGINE
-  if (name == "gpu") return make_gpu_engine(scene);
-  if (name == "gpu-jacobi") return make_gpu_engine(scene, true);
+  if (name == "gpu") return make_gpu_engine(scene, false, quiet_engines);
+  if (name == "gpu-jacobi") return make_gpu_engine(scene, true, quiet_engines);
 #endif
   std::string allowed;
   for (const std::string& n : accepted_engine_names()) allowed += (allowed.empty() ? "" : ", ") + n;

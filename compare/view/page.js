@@ -49,12 +49,43 @@
     return lo;
   }
 
+  // #only=GROUP and #run=R (the browser test): draw only the boxes of one
+  // group (awake, asleep, static, diverged) and/or of one run, on the bare
+  // background (no ground, grid or SDF).
+  const params = new URLSearchParams(location.hash.slice(1));
+  const onlyKind = params.get('only');
+  const onlyRun = params.has('run') ? +params.get('run') : null;
+  const isolated = onlyKind !== null || onlyRun !== null;
+
   // ---- three.js scene -------------------------------------------------------
+  // Without WebGL (no GPU, WebGL off) the 3D view is a message; the charts,
+  // the slider and the body panel still work.
   const container = $('view3d');
-  const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
-  renderer.setPixelRatio(window.devicePixelRatio || 1);
-  renderer.setClearColor(0x1d1f24);
-  container.appendChild(renderer.domElement);
+  // Isolated (the browser test): a 3D view of a fixed size, so that a
+  // screenshot and the status of another load of the page agree on it.
+  if (isolated) { container.style.flex = 'none'; container.style.height = '540px'; }
+  let renderer = null, webglError = null;
+  {
+    const before = window.lockstepErrors.length;
+    try {
+      renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+    } catch (e) {
+      webglError = String(e && e.message || e);
+    }
+    if (!renderer) window.lockstepErrors.splice(before);  // reported as webgl: false, not as an error
+  }
+  if (renderer) {
+    renderer.setPixelRatio(window.devicePixelRatio || 1);
+    renderer.setClearColor(0x1d1f24);
+    container.appendChild(renderer.domElement);
+  } else {
+    const msg = document.createElement('div');
+    msg.id = 'no-webgl';
+    msg.textContent = 'The 3D view needs WebGL, which this browser could not start (' + webglError + '). ' +
+      'The charts, the slider and the body panel below work without it; to see the boxes, open this page in a ' +
+      'browser with WebGL enabled (chrome://gpu or about:support tells whether it is).';
+    container.appendChild(msg);
+  }
   const scene = new THREE.Scene();
   scene.add(new THREE.HemisphereLight(0xffffff, 0x404050, 0.75));
   const sun = new THREE.DirectionalLight(0xffffff, 0.6);
@@ -75,7 +106,7 @@
   const center = new THREE.Vector3((lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2);
   const radius = Math.max(1, 0.5 * Math.hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]));
 
-  if (S.ground.present) {
+  if (S.ground.present && !isolated) {
     const size = Math.max(20, 4 * radius);
     const plane = new THREE.Mesh(new THREE.PlaneBufferGeometry(size, size),
       new THREE.MeshLambertMaterial({ color: 0x3a3d44, side: THREE.DoubleSide }));
@@ -88,7 +119,7 @@
   }
   // SDF volumes: their bounds and the samples on the solid's surface (inside,
   // next to an outside sample).
-  for (const sdf of S.sdfs) {
+  for (const sdf of (isolated ? [] : S.sdfs)) {
     const v = decode(sdf.values, Float32Array);
     const [nx, ny, nz] = sdf.n;
     const at = (i, j, k) => v[i + nx * (j + ny * k)];
@@ -115,7 +146,11 @@
   }
 
   // Each run: one instanced mesh per body state (awake, asleep, static,
-  // beyond the tolerance), re-filled every frame.
+  // beyond the tolerance), re-filled every frame. Every instanced mesh has
+  // its own box geometry: three.js r111 (Debian's libjs-three) binds the
+  // instance matrices only when the geometry or program changes between two
+  // draws, so meshes sharing one geometry and material program would all be
+  // drawn with the first one's matrices (the others' boxes missing).
   const unitBox = new THREE.BoxBufferGeometry(1, 1, 1);
   const edges = new THREE.EdgesGeometry(unitBox);
   for (const [r, run] of runs.entries()) {
@@ -127,7 +162,11 @@
       if (ghost && kind !== 'diverged') {
         mat.color.lerp(new THREE.Color(COLORS[r % COLORS.length]), 0.5);
       }
-      const mesh = new THREE.InstancedMesh(unitBox, mat, Math.max(1, N));
+      const mesh = new THREE.InstancedMesh(new THREE.BoxBufferGeometry(1, 1, 1), mat, Math.max(1, N));
+      // A group left out by #only/#run is still drawn, writing no colour and
+      // no depth: the draw calls are those of the whole page, so the test
+      // sees what the page draws (r111's binding depends on the order).
+      mesh.userData.shown = (onlyKind === null || onlyKind === kind) && (onlyRun === null || onlyRun === r);
       if (mesh.instanceMatrix.setUsage) mesh.instanceMatrix.setUsage(THREE.DynamicDrawUsage);
       mesh.frustumCulled = false;
       mesh.count = 0;
@@ -143,9 +182,12 @@
 
   const camera = new THREE.PerspectiveCamera(45, 1, 0.05, 2000 + 20 * radius);
   camera.position.set(center.x + 1.3 * radius * 1.2, center.y + 0.9 * radius * 1.2, center.z + 1.6 * radius * 1.2);
-  const controls = new THREE.OrbitControls(camera, renderer.domElement);
-  controls.target.copy(center);
-  controls.update();
+  camera.lookAt(center);
+  const controls = renderer ? new THREE.OrbitControls(camera, renderer.domElement) : null;
+  if (controls) {
+    controls.target.copy(center);
+    controls.update();
+  }
 
   // A body's world matrix (three.js column-major) into out[o..o+15].
   function bodyMatrix(run, k, i, out, o) {
@@ -171,7 +213,7 @@
     let any = false;
     for (let r = 1; r < runs.length; ++r) {
       const run = runs[r], k = indexAt(run, f);
-      if (k < 0 || kb < 0) continue;
+      if (k < 0 || kb < 0 || run.frames[k] !== f) continue;  // runs written with other --every: common frames only
       const set = new Uint8Array(N);
       for (let i = 0; i < N; ++i) {
         const a = (kb * N + i) * FLOATS, b = (k * N + i) * FLOATS;
@@ -214,7 +256,13 @@
         const m = run.meshes[kind].material;
         m.transparent = ghost;
         m.opacity = !ghost ? 1 : kind === 'diverged' ? 0.6 : 0.35;
-        m.depthWrite = !m.transparent;
+        m.depthWrite = !m.transparent && run.meshes[kind].userData.shown;
+        m.colorWrite = run.meshes[kind].userData.shown;
+        // A ghost coinciding with the baseline's box is drawn in front of it
+        // (no stripes of one and the other, z-fighting).
+        m.polygonOffset = ghost;
+        m.polygonOffsetFactor = ghost ? -1 : 0;
+        m.polygonOffsetUnits = ghost ? -4 * r : 0;
       }
     }
     if (selected) {
@@ -226,11 +274,22 @@
   }
 
   function resize() {
+    if (!renderer) return;
     const w = container.clientWidth, h = container.clientHeight;
     renderer.setSize(w, h);
   }
 
+  // The camera of column c of `columns` (side by side) and its viewport.
+  function columnCamera(columns) {
+    const w = container.clientWidth, h = container.clientHeight;
+    const cw = columns > 1 ? Math.floor(w / columns) : w;
+    camera.aspect = cw / Math.max(1, h);
+    camera.updateProjectionMatrix();
+    return [cw, h];
+  }
+
   function render() {
+    if (!renderer) return;
     const w = container.clientWidth, h = container.clientHeight;
     if (mode === 'overlay' || runs.length === 1) {
       renderer.setScissorTest(false);
@@ -241,9 +300,14 @@
       renderer.render(scene, camera);
       return;
     }
-    const cw = w / runs.length;
+    // Whole pixels per column (a fractional width would leave a seam that no
+    // column clears); the canvas is cleared whole first.
+    const cw = Math.floor(w / runs.length);
     camera.aspect = cw / Math.max(1, h);
     camera.updateProjectionMatrix();
+    renderer.setScissorTest(false);
+    renderer.setViewport(0, 0, w, h);
+    renderer.clear();
     renderer.setScissorTest(true);
     for (let c = 0; c < runs.length; ++c) {
       for (const [r, run] of runs.entries()) run.group.visible = r === c;
@@ -261,10 +325,10 @@
   const mib = (D.data_bytes / (1 << 20)).toFixed(2);
   $('summary').textContent = 'scene ' + S.name + ': ' + N + ' bodies, frames 0-' + keptFrames[keptFrames.length - 1] +
     (D.stride > 1 ? ' (1 frame in ' + D.stride + ' kept)' : '') + '; trajectories ' + mib + ' MiB (float32). ' +
-    (C ? C.note : '');
+    (C ? C.tolerance_note + ' ' + C.note : '');
   $('legend').innerHTML = '<span><i style="background:#4f9dff"></i>awake</span><span><i style="background:#8a7fb0"></i>asleep</span>' +
     '<span><i style="background:#6b6f78"></i>static</span>' + (C ? '<span><i style="background:#ff3b3b"></i>beyond ' +
-    C.position_tolerance + ' m of ' + base.label + '</span>' : '') +
+    C.position_tolerance + ' m of ' + base.label + ' (' + C.tolerance_name + ')</span>' : '') +
     runs.map((r, i) => '<span><i style="background:' + COLORS[i % COLORS.length] + '"></i>' + r.label + '</span>').join('');
   if (runs.length < 2) $('mode-wrap').style.display = 'none';
 
@@ -293,7 +357,7 @@
   function columnLabels() {
     const cols = $('columns');
     cols.innerHTML = '';
-    if (mode !== 'side' || runs.length < 2) return;
+    if (mode !== 'side' || runs.length < 2 || isolated) return;  // isolated: the bare 3D view
     for (const r of runs) {
       const d = document.createElement('div');
       d.textContent = r.label;
@@ -351,10 +415,15 @@
   function hashLine() {
     const f = frameOf(current);
     const rows = [];
+    // A run's hash is compared with the first run of its engine only: runs of
+    // different engines never share hashes (their numbers differ).
     for (const run of runs) {
-      const h = seriesAt(run, 'hashes', f), hb = seriesAt(base, 'hashes', f);
-      const differs = h && hb && h !== hb;
-      rows.push('<span class="' + (differs ? 'differs' : '') + '">' + run.label + ': hash ' + (h || 'n/a') + '</span>');
+      const ref = runs.find((o) => o.engine === run.engine);
+      const h = seriesAt(run, 'hashes', f), hr = seriesAt(ref, 'hashes', f);
+      const differs = ref !== run && h && hr && h !== hr;
+      const same = ref !== run && h && hr && h === hr;
+      rows.push('<span class="' + (differs ? 'differs' : '') + '">' + run.label + ' (' + (run.engine || '?') + '): hash ' +
+        (h || 'n/a') + (differs ? ' (differs from ' + ref.label + ')' : same ? ' (= ' + ref.label + ')' : '') + '</span>');
     }
     $('hashes').innerHTML = rows.join('<br>') + (C && C.note ? '<br>' + C.note : '');
   }
@@ -364,9 +433,48 @@
     for (const run of runs) for (const kind in run.meshes) boxes += run.meshes[kind].count;
     const st = { ready: true, frame: frameOf(current), index: current, boxes: boxes, bodies: N, runs: runs.length,
       markers: markers, errors: window.lockstepErrors.slice(), bench: benchResult, setup_ms: setupMs,
-      page_ready_ms: started + setupMs };
+      page_ready_ms: started + setupMs, webgl: !!renderer, mode: mode,
+      tolerance: C ? { position: C.position_tolerance, orientation: C.orientation_tolerance, name: C.tolerance_name } : null };
+    if (isolated) st.footprints = footprints();
+    const shown = {};
+    for (const [r, run] of runs.entries())
+      for (const kind in run.meshes) if (run.meshes[kind].userData.shown) shown[r + ':' + kind] = run.meshes[kind].count;
+    st.drawn = shown;
     $('lockstep-status').textContent = JSON.stringify(st);
     return st;
+  }
+
+  // The boxes drawn when only one group is (#only, #run): each box's eight
+  // corners projected to pixels of the 3D view's canvas (from its top left),
+  // with the canvas's place on the page. The browser test compares them with
+  // the screenshot's pixels: what is drawn must cover them, and nothing else.
+  function footprints() {
+    const f = frameOf(current), out = [];
+    const columns = mode === 'side' && runs.length > 1 ? runs.length : 1;
+    const [cw, ch] = columnCamera(columns);
+    camera.updateMatrixWorld();
+    const m = new Array(16), v = new THREE.Vector3();
+    const div = divergedSet(f);
+    for (const [r, run] of runs.entries()) {
+      if (onlyRun !== null && onlyRun !== r) continue;
+      const k = indexAt(run, f);
+      if (k < 0) continue;
+      const x0 = columns > 1 ? r * cw : 0;
+      for (let i = 0; i < N; ++i) {
+        const kind = div[r] && div[r][i] ? 'diverged' : isStatic[i] ? 'static' : run.asleepBits[k * N + i] ? 'asleep' : 'awake';
+        if (onlyKind !== null && onlyKind !== kind) continue;
+        bodyMatrix(run, k, i, m, 0);
+        const corners = [];
+        for (const sx of [-0.5, 0.5]) for (const sy of [-0.5, 0.5]) for (const sz of [-0.5, 0.5]) {
+          v.set(m[0] * sx + m[4] * sy + m[8] * sz + m[12], m[1] * sx + m[5] * sy + m[9] * sz + m[13],
+            m[2] * sx + m[6] * sy + m[10] * sz + m[14]).project(camera);
+          corners.push([+(x0 + (v.x + 1) / 2 * cw).toFixed(1), +((1 - v.y) / 2 * ch).toFixed(1)]);
+        }
+        out.push({ run: r, body: i, kind: kind, corners: corners });
+      }
+    }
+    const rect = (renderer ? renderer.domElement : container).getBoundingClientRect();
+    return { canvas: [rect.left, rect.top, rect.width, rect.height], boxes: out };
   }
 
   let charts = [];
@@ -407,21 +515,24 @@
     else if (e.key === 'End') setFrameIndex(keptFrames.length - 1);
   });
   window.addEventListener('resize', () => { resize(); render(); });
-  controls.addEventListener('change', () => render());
+  if (controls) controls.addEventListener('change', () => render());
 
   // Picking: the nearest box the ray through the pixel enters (ray against
   // each body's oriented box, in the body's frame).
   let downAt = null;
-  renderer.domElement.addEventListener('pointerdown', (e) => { downAt = [e.clientX, e.clientY]; });
-  renderer.domElement.addEventListener('pointerup', (e) => {
-    if (!downAt || Math.hypot(e.clientX - downAt[0], e.clientY - downAt[1]) > 4) return;
-    const rect = renderer.domElement.getBoundingClientRect();
-    pickAt((e.clientX - rect.left) / rect.width, (e.clientY - rect.top) / rect.height);
-  });
+  if (renderer) {
+    renderer.domElement.addEventListener('pointerdown', (e) => { downAt = [e.clientX, e.clientY]; });
+    renderer.domElement.addEventListener('pointerup', (e) => {
+      if (!downAt || Math.hypot(e.clientX - downAt[0], e.clientY - downAt[1]) > 4) return;
+      const rect = renderer.domElement.getBoundingClientRect();
+      pickAt((e.clientX - rect.left) / rect.width, (e.clientY - rect.top) / rect.height);
+    });
+  }
   // x, y: the point on the 3D view, 0..1 from its top left corner.
   function pickAt(xView, yView) {
     let x = xView, r = 0;
     if (mode === 'side' && runs.length > 1) { r = Math.min(runs.length - 1, Math.floor(x * runs.length)); x = x * runs.length - r; }
+    columnCamera(mode === 'side' && runs.length > 1 ? runs.length : 1);
     const ndc = new THREE.Vector2(2 * x - 1, 1 - 2 * yView);
     const ray = new THREE.Raycaster();
     ray.setFromCamera(ndc, camera);
@@ -504,12 +615,22 @@
   const ds = (r, data) => ({ label: runs[r].label, data: data, borderColor: COLORS[r % COLORS.length], backgroundColor: COLORS[r % COLORS.length] });
   chart('chart-energy', 'energy (kinetic + potential)', 'J', runs.map((r, i) => ds(i, series(r, 'energy'))));
   if (C) {
+    // On a log scale (what lies below the tolerance shows too); a run that
+    // matches the baseline bit for bit (0 m) is drawn at FLOOR.
+    const FLOOR = 1e-9;
     const sets = [];
-    for (let r = 1; r < runs.length; ++r)
-      sets.push(ds(r, C.divergence[r].map((v, k) => ({ x: base.frames[k], y: v }))));
-    sets.push({ label: 'tolerance', data: [{ x: 0, y: C.position_tolerance }, { x: keptFrames[keptFrames.length - 1], y: C.position_tolerance }],
+    for (let r = 1; r < runs.length; ++r) {
+      const pts = [];
+      C.divergence[r].forEach((v, k) => { if (v !== null && v !== undefined) pts.push({ x: base.frames[k], y: Math.max(FLOOR, v) }); });
+      sets.push(ds(r, pts));
+    }
+    sets.push({ label: C.tolerance_name + ' ' + C.position_tolerance + ' m',
+      data: [{ x: 0, y: C.position_tolerance }, { x: keptFrames[keptFrames.length - 1], y: C.position_tolerance }],
       borderColor: '#ff4d4d', borderDash: [4, 3], backgroundColor: '#ff4d4d' });
-    chart('chart-divergence', 'divergence from ' + base.label + ' (max over bodies)', 'm', sets);
+    chart('chart-divergence', 'divergence from ' + base.label + ' (max over bodies; log scale, 0 drawn at 1e-9 m)', 'm', sets,
+      { scales: { x: { type: 'linear', title: { display: true, text: 'frame' } },
+                  y: { type: 'logarithmic', min: FLOOR, title: { display: true, text: 'm (log)' },
+                       ticks: { callback: (v) => { const e = Math.log10(v); return Math.abs(e - Math.round(e)) < 1e-6 ? '1e' + Math.round(e) : ''; } } } } });
   } else {
     $('chart-divergence-wrap').style.display = 'none';
   }
@@ -531,8 +652,8 @@
     requestAnimationFrame(tick);
   }
 
-  // #frame=N, #mode=side, #select=RUN,BODY, #pick=X,Y, #play in the address pick the first view.
-  const params = new URLSearchParams(location.hash.slice(1));
+  // #frame=N, #mode=side, #select=RUN,BODY, #pick=X,Y, #play in the address pick the first view
+  // (#only=GROUP, #run=R: above).
   if (params.get('mode') === 'side' && runs.length > 1) { mode = 'side'; $('mode').value = 'side'; }
   if (params.has('select')) {
     const [r, b] = params.get('select').split(',').map(Number);
@@ -552,7 +673,7 @@
     const update = (performance.now() - t0) / n;
     t0 = performance.now();
     for (let i = 0; i < n; ++i) { current = i % keptFrames.length; updateScene(); render(); }
-    renderer.getContext().finish();
+    if (renderer) renderer.getContext().finish();
     const both = (performance.now() - t0) / n;
     benchResult = { frames: n, update_ms: update, update_and_draw_ms: both };
     setFrameIndex(0);

@@ -161,7 +161,7 @@ namespace {
 
 class GpuRun final : public EngineRun {
  public:
-  GpuRun(const Scene& scene, bool jacobi) : world_(scene, options(jacobi)), jacobi_(jacobi) {}
+  GpuRun(const Scene& scene, bool jacobi, bool quiet) : world_(scene, options(jacobi, quiet)), jacobi_(jacobi) {}
   std::string name() const override { return jacobi_ ? "gpu-jacobi" : "gpu"; }
   std::string description() const override {
     return jacobi_ ? world_.description() + ", Jacobi pair solver" : world_.description();
@@ -175,8 +175,9 @@ class GpuRun final : public EngineRun {
   StageCounters counters() const override { return world_.counters(); }
 
  private:
-  static gpu::GpuOptions options(bool jacobi) {
+  static gpu::GpuOptions options(bool jacobi, bool quiet) {
     gpu::GpuOptions o;
+    o.quiet = quiet;
     if (jacobi) o.pair_solver = gpu::GpuOptions::PairSolver::kJacobi;
     return o;
   }
@@ -186,8 +187,8 @@ class GpuRun final : public EngineRun {
 
 }  // namespace
 
-std::unique_ptr<EngineRun> make_gpu_engine(const Scene& scene, bool jacobi) {
-  return std::make_unique<GpuRun>(scene, jacobi);
+std::unique_ptr<EngineRun> make_gpu_engine(const Scene& scene, bool jacobi, bool quiet) {
+  return std::make_unique<GpuRun>(scene, jacobi, quiet);
 }
 
 }  // namespace lockstep

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <bit>
 #include <charconv>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdint>
@@ -318,6 +319,32 @@ class DomBuilder {
                        path);
     }
     std::string detail = ex.what();
+    // A bare NaN or Infinity (JSON has neither): say so rather than "syntax error".
+    {
+      // The word around the offending byte (last_token may hold text before it).
+      std::size_t start = std::min(offset, text_.size());
+      while (start > 0 && (std::isalpha(static_cast<unsigned char>(text_[start - 1])) || text_[start - 1] == '-' ||
+                           text_[start - 1] == '+'))
+        --start;
+      std::size_t end = start;
+      while (end < text_.size() && (std::isalnum(static_cast<unsigned char>(text_[end])) || text_[end] == '-' ||
+                                    text_[end] == '+'))
+        ++end;
+      std::string word(text_.substr(start, end - start));
+      std::string lower = word;
+      for (char& ch : lower) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+      const std::string bare = lower.empty() || (lower[0] != '-' && lower[0] != '+') ? lower : lower.substr(1);
+      if (bare == "nan" || bare == "inf" || bare == "infinity") {
+        const auto [wl, wc] = line_column(text_, start);
+        const std::string at = prefix(source_).empty()
+                                   ? "line " + std::to_string(wl) + ", column " + std::to_string(wc) + ": "
+                                   : std::string(source_) + ":" + std::to_string(wl) + ":" + std::to_string(wc) + ": ";
+        throw SceneError(at + (path.empty() ? std::string() : path + ": ") + word +
+                             " is not allowed: NaN and infinities are not numbers in JSON, and every number in a "
+                             "scene must be finite; write a finite number in the field's range (docs/SCENES.md)",
+                         path);
+      }
+    }
     // "[json.exception.parse_error.101] parse error at line 1, column 2: syntax error ..."
     if (auto p = detail.find("syntax error"); p != std::string::npos) {
       detail = detail.substr(p);

@@ -102,7 +102,7 @@ check(summary and record["hash"][50] == summary.group(1), "the run record's last
 
 # --quiet: one line (frames, ms/step, hash, all-asleep frame, worst penetration); on stderr with --out -.
 q = run("run", "drop", "--quiet", "--out", "d.csv")
-m = re.fullmatch(r"drop fixed: 300 frames, [0-9.]+ ms/step, hash ([0-9a-f]{16}), all asleep at (frame \d+|never), "
+m = re.fullmatch(r"drop fixed: 300 frames, [0-9.]+ ms/step, hash ([0-9a-f]{16}), (all asleep at frame \d+|not all asleep), "
                  r"worst penetration ([0-9.e+-]+) m\n", q.stdout)
 check(q.returncode == 0 and m is not None and q.stderr == "", "run --quiet prints one final line (got %r %r)" % (q.stdout, q.stderr))
 check(m is not None and float(m.group(3)) > 0, "drop's worst penetration is above 0 (the cube lands)")
@@ -209,6 +209,94 @@ def engine_limits():
 
 
 engine_limits()
+
+# --version: the version, the commit, the engines built and how the gpu engine was built.
+ver = run("--version")
+check(ver.returncode == 0 and re.search(r"^lockstep \d+\.\d+\.\d+$", ver.stdout, re.M) and
+      re.search(r"^commit [0-9a-f]{7,}", ver.stdout, re.M) and re.search(r"^engines fixed, float, double, mp", ver.stdout, re.M)
+      and re.search(r"^gpu engine: (CUDA|host build only|not built)", ver.stdout, re.M),
+      "lockstep --version names version, commit, engines and CUDA (got %r)" % ver.stdout)
+
+# Every exit code in the top-level and every command's --help.
+for args in [["--help"]] + [[c, "--help"] for c in COMMANDS]:
+    h = run(*args).stdout
+    check(all(x in h for x in ["exit codes: 0 ", "1 the engines disagree", "2 a usage", "3 a run stopped"]),
+          "%s lists every exit code (0, 1, 2, 3)" % " ".join(args))
+
+# "did you mean" for a mistyped option, in command-line order.
+p = run("run", "--engin", "double")
+check(p.returncode == 2 and "unknown option --engin; did you mean --engine?" in p.stderr and "double --engin" not in p.stderr,
+      "a mistyped option gets a did-you-mean (got %r)" % p.stderr)
+p = run("compare", "--page-mbb", "3", "--no-report")
+check(p.returncode == 2 and "did you mean --page-mb?" in p.stderr, "compare --page-mbb: did you mean --page-mb (got %r)" % p.stderr)
+p = run("veiw")
+check(p.returncode == 2 and "did you mean view?" in p.stderr, "a mistyped command gets a did-you-mean (got %r)" % p.stderr)
+
+# A bare NaN or Infinity in a scene: not allowed, said so, with line and column.
+for word in ["NaN", "Infinity", "-Infinity", "nan"]:
+    with open(os.path.join(WORK, "nan.json"), "w") as f:
+        f.write('{"format": "lockstep-scene", "version": 1, "name": "n", "frames": 10,\n'
+                ' "bodies": [{"half_extents": [0.5, 0.5, 0.5], "position": [0, %s, 0]}]}\n' % word)
+    p = run("run", "nan.json", "--out", "nan.csv")
+    check(p.returncode == 2 and ("%s is not allowed" % word) in p.stderr and "finite" in p.stderr and ":2:" in p.stderr,
+          "a bare %s in a scene is reported as not allowed (got %r)" % (word, p.stderr))
+
+# Wording: "1 body", significant digits for ms/step, "not all asleep".
+p = run("run", "drop", "--frames", "10", "--out", "d1.csv", "--no-progress")
+check(", 1 body, " in p.stdout and "not all asleep" in p.stdout, "run drop: '1 body', 'not all asleep' (got %r)" % p.stdout)
+ms = re.search(r"([0-9.]+) ms/step", p.stdout)
+digits = ms and ms.group(1).replace(".", "").lstrip("0")
+check(ms is not None and (ms.group(1) == "0" or len(digits) >= 3), "ms/step has 3 significant digits (got %r)" % p.stdout)
+q = run("run", "drop", "--frames", "10", "--quiet", "--out", "d2.csv")
+check("not all asleep" in q.stdout and "at never" not in q.stdout, "run --quiet: 'not all asleep' (got %r)" % q.stdout)
+
+# --quiet means no notes: compare prints nothing on stderr (the gpu engine's host-build note included).
+engines = "fixed,gpu" if "gpu" in ver.stdout.split("engines ", 1)[-1].split("\n")[0] else "fixed,float"
+p = run("compare", "stack5", "--engines", engines, "--frames", "20", "--quiet", "--no-report")
+check(p.returncode in (0, 1) and p.stderr == "", "compare --quiet (%s): nothing on stderr (got %r)" % (engines, p.stderr))
+p = run("run", "stack5", "--engine", engines.split(",")[1], "--frames", "5", "--quiet", "--out", "q.csv")
+check(p.stderr == "", "run --quiet: nothing on stderr (got %r)" % p.stderr)
+
+# One name for the page size: --page-mb in compare and view; --max-mb still accepted in both.
+for args in [["view", "a.csv", "--page-mb", "2", "--out", "pm.html"], ["view", "a.csv", "--max-mb", "2", "--out", "pm2.html"],
+             ["compare", "stack5", "--engines", "fixed,double", "--frames", "5", "--max-mb", "2", "--report", "pm", "--no-progress"]]:
+    p = run(*args)
+    check(p.returncode == 0, "%s is accepted (got %r)" % (" ".join(args), p.stderr))
+check("--page-mb" in run("view", "--help").stdout and "--page-mb" in run("compare", "--help").stdout,
+      "view and compare --help name --page-mb")
+
+# accuracy --machine: the CPU's model name from /proc/cpuinfo by default.
+model = None
+if os.path.exists("/proc/cpuinfo"):
+    for line in open("/proc/cpuinfo"):
+        if line.startswith("model name"):
+            model = line.split(":", 1)[1].strip()
+            break
+if model:
+    check(model in run("accuracy", "--help").stdout, "accuracy --machine defaults to this CPU, %r" % model)
+
+# compare's resting report: every cube of a settled stack rests on the one below (never "none").
+p = run("compare", "stack5", "--engines", "fixed,double", "--frames", "200", "--report", "st5", "--no-progress")
+rows = list(csv.DictReader(open(os.path.join(WORK, "st5", "bodies.csv"))))
+sup = {(r["engine"], int(r["body"])): r["support"] for r in rows}
+check(all(sup.get((e, 0)) == "ground" for e in ["fixed", "double"]), "stack5: the bottom cube rests on the ground (got %s)" % sup)
+check(all(sup.get((e, i)) == "body %d" % (i - 1) for e in ["fixed", "double"] for i in range(1, 5)),
+      "stack5: each cube rests on the one below (got %s)" % sup)
+
+# Runs written with different --every are compared on their common frames, in either order.
+run("run", "bowl", "--engine", "fixed", "--frames", "150", "--out", "bowl-fixed.csv", "--no-progress")
+run("run", "bowl", "--engine", "double", "--frames", "150", "--every", "10", "--out", "bowl10-double.csv", "--no-progress")
+v1 = run("view", "bowl-fixed.csv", "bowl10-double.csv", "--out", "b1.html")
+v2 = run("view", "bowl10-double.csv", "bowl-fixed.csv", "--out", "b2.html")
+f1 = re.search(r"parts from bowl-fixed.csv at frame (\d+)", v1.stdout)
+f2 = re.search(r"parts from bowl10-double.csv at frame (\d+)", v2.stdout)
+check(f1 is not None and f2 is not None and f1.group(1) == f2.group(1),
+      "view of runs with different --every: they part at the same frame in either order (got %r / %r)" % (v1.stdout, v2.stdout))
+check("frames both runs hold" in v1.stdout and "trajectory tolerance" in v1.stdout and "rest tolerance" in v1.stdout,
+      "view says which frames and which tolerances it compared (got %r)" % v1.stdout)
+d = page_data(os.path.join(WORK, "b1.html"))
+check(d["comparison"]["tolerance_name"] == "trajectory tolerance" and "trajectory tolerance" in d["comparison"]["tolerance_note"],
+      "the page names the tolerance it judges against")
 
 if failures:
     print("%d check(s) failed" % len(failures))

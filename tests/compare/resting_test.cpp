@@ -81,6 +81,24 @@ TEST(RestingTest, ABodyOnTwoBodiesRestsOnBoth) {
   EXPECT_EQ(supports_label(resting_states(s, poses, 0.002, 0.99)[2].supports), "body 0");
 }
 
+// A cube resting on a tilted cube (as in a heap): its bottom face lies on the
+// lower cube's top face, 17 cm below the lower cube's axis-aligned bounds, so
+// comparing bounding boxes alone found no support ("none").
+TEST(RestingTest, ACubeOnATiltedCubeRestsOnIt) {
+  Scene s;
+  s.bodies.resize(2);
+  const double a = 10 * std::numbers::pi / 180;  // both turned 10 degrees about z
+  BodySnapshot lower = at(0, 0.5, 0), upper = at(-std::sin(a) * 1.003, 0.5 + std::cos(a) * 1.003, 0);
+  for (BodySnapshot* b : {&lower, &upper}) {
+    b->q[0] = std::cos(a / 2);
+    b->q[3] = std::sin(a / 2);
+  }
+  const auto r = resting_states(s, {lower, upper}, 0.02, 0.99);
+  EXPECT_EQ(supports_label(r[1].supports), "body 0");
+  // 3 mm apart: beyond a 2 mm gap, no support.
+  EXPECT_EQ(supports_label(resting_states(s, {lower, upper}, 0.002, 0.99)[1].supports), "none");
+}
+
 TEST(RestingTest, SdfSupportInTheBowl) {
   const Scene bowl = *builtin_scene("bowl");
   Scene s = bowl;

@@ -3,7 +3,11 @@
 bowl --report` and `lockstep view` pages load without console errors, draw one
 box per body and run, the slider moves the scene (screenshot pixels differ
 between frames), the divergence marker sits at the frame the harness reports,
-and a selected body's panel shows its state and recorded contacts.
+and a selected body's panel shows its state and recorded contacts. What is
+drawn: for a settled scene (all asleep), a scene with a static body and two
+runs overlaid and side by side, each group of boxes (awake, asleep, static,
+run 2) drawn alone (#only, #run) covers the pixels its boxes should cover and
+nothing else; without WebGL the page shows a message and its charts.
 
 Exit 77 (ctest: skipped, shown as such) when no Chromium is installed; CI
 installs it (.ci/packages).
@@ -49,16 +53,17 @@ FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--use-angle=swiftshader
          "--enable-logging=stderr", "--v=0", "--user-data-dir=" + os.path.join(WORK, "chromium-profile")]
 
 
-def chromium(*args):
-    p = subprocess.run([CHROMIUM, *FLAGS, *args], capture_output=True, text=True, timeout=180)
-    uncaught = [l for l in p.stderr.splitlines() if "CONSOLE" in l and ("Uncaught" in l or "Error" in l)]
+def chromium(*args, flags=None, allowed=None):
+    p = subprocess.run([CHROMIUM, *(flags or FLAGS), *args], capture_output=True, text=True, timeout=180)
+    uncaught = [l for l in p.stderr.splitlines() if "CONSOLE" in l and ("Uncaught" in l or "Error" in l) and
+                not (allowed and allowed in l)]
     check(not uncaught, "no console errors in Chromium's log (got %s)" % uncaught[:3])
     return p
 
 
-def status(url):
+def status(url, flags=None, allowed=None):
     """The page's #lockstep-status after load: frame, boxes drawn, markers, errors."""
-    p = chromium("--dump-dom", url)
+    p = chromium("--dump-dom", url, flags=flags, allowed=allowed)
     m = re.search(r'<pre id="lockstep-status"[^>]*>(.*?)</pre>', p.stdout, re.S)
     check(m is not None and m.group(1).strip(), "the page reports its status (%s; stderr %s)" % (url, p.stderr[-500:]))
     if not m or not m.group(1).strip():
@@ -123,7 +128,33 @@ def differing(a, b):
 
 shutil.rmtree(WORK, ignore_errors=True)
 os.makedirs(WORK)
-run = lambda *a: subprocess.run([LOCKSTEP, *a], capture_output=True, text=True, cwd=WORK, timeout=600)
+# LOCKSTEP_VIEW_PAGE_JS=FILE: every page written is given FILE as its script
+# instead of the built-in one (to run these checks against another version of
+# compare/view/page.js, e.g. an older one, without rebuilding lockstep).
+PAGE_JS = os.environ.get("LOCKSTEP_VIEW_PAGE_JS")
+
+
+def swap_script(path):
+    html = open(path, encoding="utf-8").read()
+    start = html.rindex("<script>") + len("<script>")
+    end = html.rindex("</script>")
+    js = open(PAGE_JS, encoding="utf-8").read().replace("</", "<\\/")
+    with open(path, "w", encoding="utf-8") as f:
+        f.write(html[:start] + js + html[end:])
+
+
+def run(*a):
+    p = subprocess.run([LOCKSTEP, *a], capture_output=True, text=True, cwd=WORK, timeout=600)
+    if PAGE_JS and a[0] in ("view", "compare"):
+        for root, _, files in os.walk(WORK):
+            for name in files:
+                if name.endswith(".html") and os.path.getmtime(os.path.join(root, name)) >= START - 1:
+                    swap_script(os.path.join(root, name))
+    return p
+
+
+import time
+START = time.time()
 
 # A comparison whose engines part: bowl (20 cubes poured into an SDF bowl), fixed against double.
 cmp = run("compare", "bowl", "--engines", "fixed,double", "--frames", "120", "--report", "bowl", "--no-progress")
@@ -202,6 +233,170 @@ st, _ = status("file://" + os.path.join(WORK, "grid.html") + "#frame=2&bench=20"
 check(st.get("errors") == [] and st.get("boxes") == n, "10,000 bodies: no errors, 10,000 boxes (got %s, %s)" %
       (st.get("errors"), st.get("boxes")))
 print("10,000 bodies: %s" % json.dumps(st.get("bench")))
+
+# ---- What is drawn: each group of boxes rendered alone covers its boxes' pixels --
+# #only=GROUP (awake, asleep, static) and #run=R draw one group of boxes on the
+# bare background; the page's status gives each drawn box's eight corners
+# projected to the canvas (camera math alone, not the drawing). In the
+# screenshot, the inside of every box's outline must be drawn, and the canvas
+# away from every outline must be background.
+BACKGROUND = (0x1d, 0x1f, 0x24)
+
+
+def hull(points):
+    pts = sorted(set(map(tuple, points)))
+    if len(pts) < 3:
+        return pts
+    cross = lambda o, a, b: (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+    lower, upper = [], []
+    for p in pts:
+        while len(lower) >= 2 and cross(lower[-2], lower[-1], p) <= 0:
+            lower.pop()
+        lower.append(p)
+    for p in reversed(pts):
+        while len(upper) >= 2 and cross(upper[-2], upper[-1], p) <= 0:
+            upper.pop()
+        upper.append(p)
+    return lower[:-1] + upper[:-1]
+
+
+def scaled(poly, factor, grow=0.0):
+    cx = sum(p[0] for p in poly) / len(poly)
+    cy = sum(p[1] for p in poly) / len(poly)
+    out = []
+    for x, y in poly:
+        dx, dy = x - cx, y - cy
+        d = max(1e-9, (dx * dx + dy * dy) ** 0.5)
+        out.append((cx + dx * factor + grow * dx / d, cy + dy * factor + grow * dy / d))
+    return out
+
+
+def inside(poly, x, y):
+    # counter-clockwise convex polygon (hull's order)
+    n = len(poly)
+    for i in range(n):
+        ax, ay = poly[i]
+        bx, by = poly[(i + 1) % n]
+        if (bx - ax) * (y - ay) - (by - ay) * (x - ax) < 0:
+            return False
+    return n >= 3
+
+
+def drawn_check(what, url, want_boxes=None, min_boxes=1):
+    """Screenshot of `url` (with #only/#run) against the boxes' outlines in its status."""
+    st, _ = status(url)
+    fp = st.get("footprints")
+    check(st.get("errors") == [] and st.get("webgl") is True, "%s: no errors, WebGL on (got %s)" % (what, st.get("errors")))
+    check(fp is not None, "%s: the page gives the drawn boxes' outlines (#only/#run)" % what)
+    if not fp:
+        return None
+    boxes = fp["boxes"]
+    if want_boxes is not None:
+        check(len(boxes) == want_boxes, "%s: %d boxes in the group (got %d)" % (what, want_boxes, len(boxes)))
+    left, top, cw, ch = [int(round(v)) for v in fp["canvas"]]
+    path = os.path.join(WORK, re.sub(r"[^a-z0-9]+", "-", what.lower()).strip("-") + ".png")
+    chromium("--screenshot=" + path, url)
+    check(os.path.exists(path), "%s: screenshot" % what)
+    if not os.path.exists(path):
+        return None
+    w, h, bpp, rows = png_pixels(path)
+
+    def drawn(x, y):
+        X, Y = left + x, top + y
+        if not (0 <= X < w and 0 <= Y < h):
+            return None
+        i = X * bpp
+        px = rows[Y][i:i + 3]
+        return max(abs(px[c] - BACKGROUND[c]) for c in range(3)) > 6
+
+    hulls = [hull(b["corners"]) for b in boxes]
+    covered_boxes, worst = 0, 1.0
+    for b, poly in zip(boxes, hulls):
+        inner = scaled(poly, 0.7)
+        xs, ys = [p[0] for p in inner], [p[1] for p in inner]
+        n = hit = 0
+        for y in range(max(0, int(min(ys))), min(ch, int(max(ys)) + 1), 2):
+            for x in range(max(0, int(min(xs))), min(cw, int(max(xs)) + 1), 2):
+                if inside(inner, x + 0.5, y + 0.5):
+                    d = drawn(x, y)
+                    if d is not None:
+                        n += 1
+                        hit += d
+        if n:
+            frac = hit / n
+            worst = min(worst, frac)
+            covered_boxes += frac >= 0.9
+        else:
+            covered_boxes += 1  # off screen or sub-pixel
+    check(covered_boxes == len(boxes),
+          "%s: every box of the group is drawn over its outline (%d of %d boxes covered >= 90%%; worst %.0f%%)" %
+          (what, covered_boxes, len(boxes), 100 * worst))
+    outer = [scaled(poly, 1.15, 3.0) for poly in hulls]
+    n = stray = 0
+    for y in range(0, ch, 3):
+        for x in range(0, cw, 3):
+            if any(inside(p, x + 0.5, y + 0.5) for p in outer):
+                continue
+            d = drawn(x, y)
+            if d is not None:
+                n += 1
+                stray += d
+    check(n == 0 or stray <= 0.002 * n, "%s: nothing drawn away from the group's boxes (%d of %d sampled pixels drawn)" %
+          (what, stray, n))
+    print("%s: %d boxes, worst coverage %.0f%%, %d stray pixels of %d" % (what, len(boxes), 100 * worst, stray, n))
+    return st
+
+
+# A settled stack: stack5 on fixed and on float, every cube asleep at frame 200.
+for name, engine in [("s5-fixed.csv", "fixed"), ("s5-float.csv", "float")]:
+    r = run("run", "stack5", "--engine", engine, "--frames", "200", "--out", name, "--no-progress")
+    check(r.returncode == 0, "run stack5 on %s (%s)" % (engine, r.stderr))
+run("view", "s5-fixed.csv", "--out", "s5-one.html")
+run("view", "s5-fixed.csv", "s5-float.csv", "--out", "s5-two.html")
+one = "file://" + os.path.join(WORK, "s5-one.html")
+two = "file://" + os.path.join(WORK, "s5-two.html")
+drawn_check("stack5 settled asleep", one + "#frame=200&only=asleep", want_boxes=5)
+drawn_check("stack5 settled awake", one + "#frame=200&only=awake", want_boxes=0)
+drawn_check("stack5 awake at frame 0", one + "#frame=0&only=awake", want_boxes=5)
+# Two runs overlaid and side by side: each run alone, its boxes asleep.
+for mode in ["", "&mode=side"]:
+    for r in [0, 1]:
+        drawn_check("stack5 two runs%s run %d" % (mode.replace("&mode=", " "), r),
+                    two + "#frame=200&run=%d%s" % (r, mode), want_boxes=5)
+    drawn_check("stack5 two runs%s run 1 asleep" % mode.replace("&mode=", " "), two + "#frame=200&run=1&only=asleep" + mode,
+                want_boxes=5)
+# Every box of both runs (no group hidden) in the screenshot of the whole page.
+st, _ = status(two + "#frame=200&mode=side")
+check(st.get("drawn", {}).get("0:asleep") == 5 and st.get("drawn", {}).get("1:asleep") == 5,
+      "stack5 two runs: 5 asleep boxes in each run's asleep mesh (got %s)" % st.get("drawn"))
+
+# A static body: a slab tilted 10 degrees, a cube resting on it (asleep at the end): tests/compare/data/ramp.json.
+shutil.copy(os.path.join(os.path.dirname(os.path.abspath(__file__)), "data", "ramp.json"), os.path.join(WORK, "ramp.json"))
+r = run("run", "ramp.json", "--out", "ramp.csv", "--no-progress")
+check(r.returncode == 0, "run ramp.json (%s)" % r.stderr)
+rv = run("view", "ramp.csv", "--out", "ramp.html")
+check(rv.returncode == 0, "view ramp.csv (%s)" % rv.stderr)
+ramp_page = "file://" + os.path.join(WORK, "ramp.html")
+drawn_check("ramp static slab", ramp_page + "#frame=240&only=static", want_boxes=1)
+drawn_check("ramp cube asleep", ramp_page + "#frame=240&only=asleep", want_boxes=1)
+drawn_check("ramp cube awake", ramp_page + "#frame=1&only=awake", want_boxes=1)
+
+# Without WebGL: a message in place of the 3D view; the charts and the panel still work.
+no_gl = [f for f in FLAGS if "angle" not in f and "swiftshader" not in f] + ["--disable-webgl", "--disable-3d-apis"]
+st, dom = status(two + "#frame=100&select=0,2", flags=no_gl, allowed="Error creating WebGL context")
+check(st.get("webgl") is False and st.get("errors") == [], "without WebGL: status webgl false, no errors (got %s, %s)" %
+      (st.get("webgl"), st.get("errors")))
+check('id="no-webgl"' in dom and "needs WebGL" in dom, "without WebGL: the 3D view says so")
+check("s5-fixed.csv, body 2 at frame 100" in dom, "without WebGL: the body panel works")
+check(dom.count("<canvas") >= 3, "without WebGL: the charts are drawn (%d canvases)" % dom.count("<canvas"))
+
+# Hashes are compared between runs of one engine only: float's is not marked.
+st, dom = status(two + "#frame=50")
+hashes = re.search(r'<div id="hashes">(.*?)</div>', dom, re.S)
+check(hashes is not None and "differs" not in hashes.group(1), "fixed and float hashes are not compared (got %r)" %
+      (hashes and hashes.group(1)[:300]))
+check(st.get("tolerance", {}) and st["tolerance"].get("position") == 0.05 and "trajectory tolerance" in dom,
+      "the page names the trajectory tolerance it judges against (got %s)" % st.get("tolerance"))
 
 if failures:
     print("%d check(s) failed" % len(failures))

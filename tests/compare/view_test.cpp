@@ -107,6 +107,40 @@ TEST(View, RunsPartWhereABodyLeavesThePositionTolerance) {
   EXPECT_EQ(c.divergence[1][5], 0.0);
 }
 
+// Runs written with different --every (every frame; every 10th) are compared
+// on the frames both hold, in either order: they part at the same frame.
+TEST(View, RunsWithDifferentEveryAreComparedOnCommonFrames) {
+  const CompareTolerances tol;  // 0.05 m
+  const auto still = [](int, int b) { return 2.0 * b; };
+  const auto none = [](int, int) { return 0.0; };
+  const ViewRun every1 = synthetic("a", "double", 2, 40, still, none);
+  ViewRun every10 = synthetic("b", "fixed", 2, 40, [](int f, int b) { return 2.0 * b + (b == 1 && f >= 15 ? 0.5 : 0.0); }, none);
+  ViewRun kept;
+  kept.label = every10.label;
+  kept.engine = every10.engine;
+  kept.bodies = every10.bodies;
+  kept.hashes = every10.hashes;
+  for (std::size_t k = 0; k < every10.frames.size(); ++k) {
+    if (every10.frames[k] % 10 != 0) continue;
+    kept.frames.push_back(every10.frames[k]);
+    kept.state.insert(kept.state.end(), every10.state.begin() + static_cast<long>(k * 2 * kViewFloats),
+                      every10.state.begin() + static_cast<long>((k + 1) * 2 * kViewFloats));
+    kept.asleep.insert(kept.asleep.end(), {0, 0});
+  }
+  const ViewComparison ab = compare_runs({every1, kept}, tol);
+  const ViewComparison ba = compare_runs({kept, every1}, tol);
+  EXPECT_EQ(ab.parted_frame[1], 20);
+  EXPECT_EQ(ba.parted_frame[1], 20);
+  EXPECT_EQ(ab.common_frames[1], 5);  // 0, 10, 20, 30, 40
+  EXPECT_EQ(ba.common_frames[1], 5);
+  EXPECT_TRUE(std::isnan(ab.divergence[1][15]));  // not held by the second run
+  EXPECT_NEAR(ab.divergence[1][30], 0.5, 1e-6);
+  EXPECT_NEAR(ab.final_distance[1], 0.5, 1e-6);
+  EXPECT_EQ(ab.final_body[1], 1);
+  EXPECT_EQ(ab.rest_position_tolerance, tol.rest_position);
+  EXPECT_NE(ab.tolerance_note.find("trajectory tolerance"), std::string::npos);
+}
+
 TEST(View, RunsPartWhereABodyTurnsBeyondTheOrientationTolerance) {
   const auto still = [](int, int b) { return 2.0 * b; };
   const ViewRun base = synthetic("double", "double", 2, 20, still, [](int, int) { return 0.0; });

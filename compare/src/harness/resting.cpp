@@ -1,8 +1,10 @@
 #include "lockstep/compare/resting.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "lockstep/math/num.hpp"
 #include "lockstep/math/vec.hpp"
@@ -33,13 +35,63 @@ void rotation(const double q[4], double R[3][3]) {
 struct Box {
   double lo[3], hi[3];  // AABB (eq 31) (m)
   double corners[8][3];  // in the corner order of eq 84
+  double p[3], R[3][3], h[3];
 };
+
+// Distance from point c to the (oriented) box; 0 inside.
+double distance_to(const Box& b, const double c[3]) {
+  double d2 = 0;
+  for (int i = 0; i < 3; ++i) {
+    double local = 0;  // R^T (c - p)
+    for (int a = 0; a < 3; ++a) local += b.R[a][i] * (c[a] - b.p[a]);
+    const double out = std::fabs(local) - b.h[i];
+    if (out > 0) d2 += out * out;
+  }
+  return std::sqrt(d2);
+}
+
+// Points on the faces of b: near each corner, on each of the three faces
+// that meet there, 10 % of the face inside its edges.
+std::vector<std::array<double, 3>> face_points(const Box& b) {
+  std::vector<std::array<double, 3>> out;
+  for (int k = 0; k < 8; ++k)
+    for (int m = 0; m < 3; ++m) {
+      double local[3];
+      for (int a = 0; a < 3; ++a) local[a] = ((k >> a) & 1 ? b.h[a] : -b.h[a]) * (a == m ? 1.0 : 0.9);
+      std::array<double, 3> w{};
+      for (int a = 0; a < 3; ++a) {
+        w[a] = b.p[a];
+        for (int i = 0; i < 3; ++i) w[a] += b.R[a][i] * local[i];
+      }
+      out.push_back(w);
+    }
+  return out;
+}
+
+// Body j (below) supports body i: a point on a face of one lies within `gap`
+// of the other, between their centres' heights (below i's centre, above
+// j's: a neighbour touching side to side is no support; face points, not
+// corners, so that boxes meeting only edge to edge are no support either).
+// The boxes may be tilted (a cube resting on a tilted cube, in a heap).
+bool supports(const Box& i, const Box& j, double gap) {
+  if (!(j.p[1] < i.p[1])) return false;
+  for (const auto& c : face_points(i))
+    if (c[1] < i.p[1] && c[1] > j.p[1] && distance_to(j, c.data()) <= gap) return true;
+  for (const auto& c : face_points(j))
+    if (c[1] > j.p[1] && c[1] < i.p[1] && distance_to(i, c.data()) <= gap) return true;
+  return false;
+}
 
 Box box_of(const BodyDesc& desc, const BodySnapshot& s) {
   double R[3][3];
   rotation(s.q, R);
   const double h[3] = {desc.half_extents.x, desc.half_extents.y, desc.half_extents.z};
   Box b{};
+  for (int a = 0; a < 3; ++a) {
+    b.p[a] = s.p[a];
+    b.h[a] = h[a];
+    for (int i = 0; i < 3; ++i) b.R[a][i] = R[a][i];
+  }
   for (int a = 0; a < 3; ++a) {
     const double e = std::fabs(R[a][0]) * h[0] + std::fabs(R[a][1]) * h[1] + std::fabs(R[a][2]) * h[2];
     b.lo[a] = s.p[a] - e;
@@ -143,10 +195,11 @@ std::vector<RestingState> resting_states(const Scene& scene, const std::vector<B
     }
     if (scene.effects.contacts) {
       for (std::size_t j = 0; j < n; ++j) {
-        if (j == i || std::fabs(b.lo[1] - boxes[j].hi[1]) > gap || !(bodies[j].p[1] < s.p[1])) continue;
-        if (overlap(b.lo[0], b.hi[0], boxes[j].lo[0], boxes[j].hi[0]) > 0 &&
-            overlap(b.lo[2], b.hi[2], boxes[j].lo[2], boxes[j].hi[2]) > 0)
-          r.supports.push_back({Support::body, static_cast<int>(j)});
+        if (j == i) continue;
+        const bool aabb = std::fabs(b.lo[1] - boxes[j].hi[1]) <= gap && bodies[j].p[1] < s.p[1] &&
+                          overlap(b.lo[0], b.hi[0], boxes[j].lo[0], boxes[j].hi[0]) > 0 &&
+                          overlap(b.lo[2], b.hi[2], boxes[j].lo[2], boxes[j].hi[2]) > 0;
+        if (aabb || supports(b, boxes[j], gap)) r.supports.push_back({Support::body, static_cast<int>(j)});
       }
     }
     out.push_back(r);

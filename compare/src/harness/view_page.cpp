@@ -176,7 +176,12 @@ std::string view_html(const ViewPage& page, const ViewLibraries& lib) {
                           {"hash_run_a", c.hash_run_a},
                           {"hash_run_b", c.hash_run_b},
                           {"first_hash_difference", c.first_hash_difference},
-                          {"note", c.note}};
+                          {"note", c.note},
+                          {"tolerance_name", c.tolerance_name},
+                          {"tolerance_note", c.tolerance_note},
+                          {"rest_position_tolerance", c.rest_position_tolerance},
+                          {"final_distance", c.final_distance},
+                          {"common_frames", c.common_frames}};
   }
   std::string title = page.title;
   for (std::size_t at = title.find_first_of("<>&"); at != std::string::npos; at = title.find_first_of("<>&", at + 1))

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <stdexcept>
@@ -263,14 +264,21 @@ ViewComparison compare_runs(const std::vector<ViewRun>& runs, const CompareToler
   ViewComparison c;
   c.position_tolerance = tol.position;
   c.orientation_tolerance = tol.orientation;
+  c.rest_position_tolerance = tol.rest_position;
   const ViewRun& base = runs.at(0);
   const std::size_t n = static_cast<std::size_t>(base.bodies);
   for (const ViewRun& r : runs) {
     std::vector<double> div;
-    int parted = -1, parted_body = -1;
+    int parted = -1, parted_body = -1, common = 0;
     for (std::size_t k = 0; k < base.frames.size(); ++k) {
+      // Runs written with different --every: compared on the frames both hold
+      // (NaN, null in the page, on the others).
       const auto it = std::lower_bound(r.frames.begin(), r.frames.end(), base.frames[k]);
-      if (it == r.frames.end() || *it != base.frames[k] || static_cast<std::size_t>(r.bodies) != n) break;
+      if (static_cast<std::size_t>(r.bodies) != n || it == r.frames.end() || *it != base.frames[k]) {
+        div.push_back(std::numeric_limits<double>::quiet_NaN());
+        continue;
+      }
+      ++common;
       const std::size_t kr = static_cast<std::size_t>(it - r.frames.begin());
       double worst = 0;
       for (std::size_t i = 0; i < n; ++i) {
@@ -290,6 +298,30 @@ ViewComparison compare_runs(const std::vector<ViewRun>& runs, const CompareToler
     c.divergence.push_back(std::move(div));
     c.parted_frame.push_back(parted);
     c.parted_body.push_back(parted_body);
+    c.common_frames.push_back(common);
+    // The final pose, as compare's rest check: both runs' last frame.
+    double final_distance = -1;
+    int final_body = -1;
+    if (!r.frames.empty() && !base.frames.empty() && r.frames.back() == base.frames.back() &&
+        static_cast<std::size_t>(r.bodies) == n) {
+      final_distance = 0;
+      const std::size_t kb = base.frames.size() - 1, kr = r.frames.size() - 1;
+      for (std::size_t i = 0; i < n; ++i) {
+        const float* a = &base.state[(kb * n + i) * kViewFloats];
+        const float* b = &r.state[(kr * n + i) * kViewFloats];
+        const double dp = std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+        if (dp > final_distance || final_body < 0) { final_distance = dp; final_body = static_cast<int>(i); }
+      }
+    }
+    c.final_distance.push_back(final_distance);
+    c.final_body.push_back(final_body);
+  }
+  {
+    std::ostringstream os;
+    os << "Runs part where a body is more than " << tol.position << " m or " << tol.orientation
+       << " rad from " << base.label << " (the trajectory tolerance `lockstep compare` judges trajectories by); "
+       << "compare also judges the final pose against its rest tolerance of " << tol.rest_position << " m.";
+    c.tolerance_note = os.str();
   }
   // Which two runs' hashes to compare: two fixed runs (expected to match bit
   // for bit) first, then two runs of one engine. Runs of different engines

@@ -86,6 +86,12 @@ std::vector<std::string> engine_names_for(const Scene& scene);
 // lockstep/scene_limits.hpp) when the engine's number type cannot represent a
 // body of the scene, naming the field, the value, the limit and a fix.
 std::unique_ptr<EngineRun> make_engine(std::string_view name, const Scene& scene);
+// Engines made after set_quiet_engines(true) print no notes on stderr (the
+// gpu engine's "host build" note when it runs on the CPU).
+void set_quiet_engines(bool quiet);
+// How the gpu engine was built: "CUDA" (and whether a device is present),
+// "host build only (no CUDA)", or "not built".
+std::string gpu_build_description();
 
 // The CPU engines: a World<T> behind EngineRun.
 template <class T>

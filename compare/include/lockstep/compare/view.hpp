@@ -110,6 +110,20 @@ struct ViewComparison {
   int hash_run_a = -1, hash_run_b = -1, first_hash_difference = -1;
   int hash_frames_compared = 0;
   std::string note;                             // one line for the page
+  // The tolerance the divergence is judged against, named as `lockstep
+  // compare` names it (its trajectory check uses the same position and
+  // orientation tolerances), and one sentence for the page.
+  std::string tolerance_name = "trajectory tolerance";
+  std::string tolerance_note;
+  // The final pose (compare's rest check, tolerance rest_position): per run,
+  // max |p - p_base| over bodies at the last frame both runs hold when that
+  // is both runs' last frame; -1 when not compared. The body; -1.
+  double rest_position_tolerance = 0;
+  std::vector<double> final_distance;
+  std::vector<int> final_body;
+  // Per run, the kept frames of the baseline it shares (runs written with
+  // different --every are compared on their common frames only).
+  std::vector<int> common_frames;
 };
 ViewComparison compare_runs(const std::vector<ViewRun>& runs, const CompareTolerances& tolerances);
 

@@ -19,7 +19,8 @@ namespace lockstep {
 // The "gpu" engine behind the EngineRun interface (name() is "gpu"); with
 // `jacobi`, the same engine with the Jacobi pair solver
 // (GpuOptions::PairSolver::kJacobi, name() "gpu-jacobi").
-std::unique_ptr<EngineRun> make_gpu_engine(const Scene& scene, bool jacobi = false);
+// `quiet`: no note on stderr when it falls back to the host build.
+std::unique_ptr<EngineRun> make_gpu_engine(const Scene& scene, bool jacobi = false, bool quiet = false);
 
 namespace gpu {
 
