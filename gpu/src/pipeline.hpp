@@ -66,9 +66,8 @@ class Pipeline final : public PipelineBase {
     support_idx_.resize(n + 1);
     over_support_.resize(n + 1);
     leaning_.resize(n + 1);
-    holds_.resize(n + 1);
+    settle_limit_.resize(n + 1);
     can_rest_.resize(n + 1);
-    be_.fill_int(holds_.data(), 1, n + 1);
     be_.fill_int(can_rest_.data(), 1, n + 1);
     for (auto& c : over_chain_) c.resize(n + 1);
     support_n_.resize(n + 1);
@@ -286,7 +285,7 @@ class Pipeline final : public PipelineBase {
   Buf<int> support_idx_;
   Buf<int> over_support_;  // eq 112, per body (written by ContactsK for the active ones)
   Buf<int> leaning_;       // eq 115, per body (written by ContactsK with over_support_)
-  Buf<int> holds_;         // eq 116, per body (ContactsK): friction can hold it on its support
+  Buf<float> settle_limit_;  // eq 116, per body (ContactsK): eq 77 damps a relative speed up to this
   Buf<int> can_rest_;      // eqs 116-117, per body (ContactsK, LoadOverK): statics lets it rest
   Buf<int> load_parent_;   // eq 117, per body (ContactsK)
   Buf<F4> load_[2];        // eq 117's sweeps, per body: the load's offset (xyz) and mass (w)
@@ -506,7 +505,7 @@ void Pipeline<B>::step() {
     ck.grow = grow;
     ck.over_support = over_support_.data();
     ck.leaning = leaning_.data();
-    ck.holds = holds_.data();
+    ck.settle_limit = settle_limit_.data();
     ck.can_rest = can_rest_.data();
     if (oriented_) {
       load_parent_.resize(static_cast<std::size_t>(n_) + 1);
@@ -592,7 +591,7 @@ void Pipeline<B>::step() {
   be_.mark(kStageSettle);
   SettleSweep sweep{support_idx_.data(), support_n_.data(), vel_[last].data(), vel_[last].data(), oriented_};
   if (oriented_) sweep.over = over, sweep.leaning = leaning_.data();
-  sweep.holds = holds_.data();
+  sweep.limit = settle_limit_.data();
   if (fx_.settling && n_active > 0) {
     const int batch = std::max(1, opt_.settle_batch);
     for (int s = 0;;) {  // until every body's settled velocity is final

@@ -745,7 +745,7 @@ struct ContactsK {
   const float* grow = nullptr;  // oriented-box model: per body, its AABB growth (eqs 97, 107)
   int* over_support = nullptr;  // per body: 1 when its centre of mass is over its support contacts (eq 112)
   int* leaning = nullptr;       // per body: 1 when it leans on what holds it beyond its support (eq 115)
-  int* holds = nullptr;         // per body: friction can hold it on its support (eq 116)
+  float* settle_limit = nullptr;  // per body: eq 77 damps a relative speed up to this (eq 116)
   int* can_rest = nullptr;      // per body: statics lets it rest (eq 116 here; eq 117 in LoadOverK)
   // The oriented-box model, eq 117's inputs: per body its load parent; per
   // slot its support points' lever arms (kMaxSupportPoints each), how many
@@ -989,10 +989,11 @@ struct ContactsK {
       over_support[i] = loaded || over_contacts ? 1 : 0;
       leaning[i] = leans(support != kNoSupport, loaded, over_contacts) ? 1 : 0;  // eq 115
     }
-    if (holds != nullptr) {  // eq 116
-      const bool held_up = support == kNoSupport || loaded ||
-                           friction_holds(sc.gravity ? sc.P.gravity : Vec3<float>{}, n_s, support_mu);
-      holds[i] = held_up ? 1 : 0;
+    if (settle_limit != nullptr) {  // eq 116
+      const Vec3<float> g = sc.gravity ? sc.P.gravity : Vec3<float>{};
+      const bool held_up = support == kNoSupport || loaded || friction_holds(g, n_s, support_mu);
+      settle_limit[i] = support == kNoSupport ? 0.0f : lockstep::settle_limit(held_up, sc.oriented && !loaded, g, n_s,
+                                                                               support_mu, sc.P);
       can_rest[i] = held_up ? 1 : 0;
     }
     if (load_parent != nullptr) {  // eq 117's inputs
@@ -1344,7 +1345,7 @@ struct SettleSweep {
   bool relative = false;  // the oriented-box model: eq 77 relative to the support's velocity
   const int* over = nullptr;  // the oriented-box model: per body, over its support (eq 112); one that is not does not settle
   const int* leaning = nullptr;  // the oriented-box model: per body, it leans (eq 115): not righted
-  const int* holds = nullptr;    // per body: friction can hold it (eq 116): eq 77 damps only these
+  const float* limit = nullptr;  // per body: eq 77 damps a relative speed up to this (eq 116)
   LS_HD bool settles(int i) const { return over == nullptr || ro(over + i) != 0; }
   LS_HD bool leans(int i) const { return leaning != nullptr && ro(leaning + i) != 0; }
   // Eqs 75, 77 on v (the solver's velocity of body i); returns |v| after eq 75
@@ -1370,7 +1371,7 @@ struct SettleSweep {
     }
     const F4 sn = ro(support_n + i);  // the support normal, w: the support gap
     return settle_linear_velocity(v, v_s, xyz(sn), sn.w, P, relative,
-                                  holds == nullptr || ro(holds + i) != 0);  // eqs 75, 77, 116
+                                  limit == nullptr ? P.settle_speed : ro(limit + i));  // eqs 75, 77, 116
   }
 };
 

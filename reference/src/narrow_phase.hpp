@@ -227,14 +227,14 @@ void World<T>::narrow_phase() {
     return idx >= 0 ? bodies_[static_cast<std::size_t>(idx)].friction
                     : (idx == -1 ? ground_mu_ : sdf_mu_[static_cast<std::size_t>(-2 - idx)]);
   };
-  std::fill(holds_.begin(), holds_.end(), 1);
   std::fill(can_rest_.begin(), can_rest_.end(), 1);
   for (const int idx : settle_order_) {
     const auto i = static_cast<std::size_t>(idx);
     const Contact<T>& c = contacts_[static_cast<std::size_t>(support_[i])];
     const T mu = scene_.effects.friction ? combined_friction(material_mu(c.a), material_mu(c.b)) : T{};
-    holds_[i] = loaded[i] != 0 || friction_holds(g, support_n_[i], mu) ? 1 : 0;
-    can_rest_[i] = holds_[i];
+    const bool holds = loaded[i] != 0 || friction_holds(g, support_n_[i], mu);
+    can_rest_[i] = holds ? 1 : 0;
+    settle_limit_[i] = settle_limit(holds, oriented && loaded[i] == 0, g, support_n_[i], mu, P_);
   }
   if (!oriented) return;
   // eq 117: load parents (the one awake body below that every support

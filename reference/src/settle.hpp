@@ -30,7 +30,7 @@ void World<T>::settle() {
     // The oriented-box model settles relative to the support (eq 77) and damps
     // spin (eqs 72-74) on immovable supports only; the AABB model as the source.
     const T speed = settle_linear_velocity(b.v, v_support, n, support_gap_[i], P_, oriented,
-                                           holds_[i] != 0);  // eqs 75, 77, 116
+                                           settle_limit_[i]);  // eqs 75, 77, 116
     b.w = settle_angular_velocity(b.w, b.R, n, speed, !(oriented && movable), leaning_[i] != 0,
                                   P_);  // eqs 64-74, 115, up = support normal
     check_faults(idx, "settling");

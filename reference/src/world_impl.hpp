@@ -80,7 +80,7 @@ World<T>::World(const Scene& scene) : scene_(scene), P_(Params<T>::from(scene.co
   support_gap_.assign(bodies_.size(), T{});
   over_support_.assign(bodies_.size(), 1);
   leaning_.assign(bodies_.size(), 0);
-  holds_.assign(bodies_.size(), 1);
+  settle_limit_.assign(bodies_.size(), T{});
   can_rest_.assign(bodies_.size(), 1);
 }
 
@@ -106,7 +106,7 @@ World<T>& World<T>::operator=(const World& other) {
   support_gap_ = other.support_gap_;
   over_support_ = other.over_support_;
   leaning_ = other.leaning_;
-  holds_ = other.holds_;
+  settle_limit_ = other.settle_limit_;
   can_rest_ = other.can_rest_;
   ground_y_ = other.ground_y_;
   ground_e_ = other.ground_e_;

@@ -376,6 +376,14 @@ Json f_over_with_support(In in, const std::string& p) {
 Json f_friction_holds(In in, const std::string& p) {
   return Json{{"holds", friction_holds(vec_at(in, "g", p), vec_at(in, "n", p), q16_at(in, "mu", p))}};
 }
+// eq 116: the slide friction can stop in a frame, and eq 77's limit.
+Json f_friction_spare(In in, const std::string& p) {
+  return Json{{"spare", to_json(friction_spare(vec_at(in, "g", p), vec_at(in, "n", p), q16_at(in, "mu", p), q16_at(in, "dt", p)))}};
+}
+Json f_settle_limit(In in, const std::string& p) {
+  return Json{{"limit", to_json(settle_limit(bool_at(in, "holds", p), bool_at(in, "spare", p), vec_at(in, "g", p),
+                                             vec_at(in, "n", p), q16_at(in, "mu", p), params_at(in, p)))}};
+}
 // eq 117: the load parent fold, the load's mass and centre, and whether it is over its support.
 Json f_fold_load_parent(In in, const std::string& p) {
   return Json{{"state", fold_load_parent(static_cast<int>(int_at(in, "state", p)), static_cast<int>(int_at(in, "other", p)))}};
@@ -597,6 +605,10 @@ const std::vector<Formula>& formulas() {
       {"friction_holds", {116},
        "gn = dot(g, n); gt = g - n * gn; false if gn > 0, else not (|gt| > mu * -gn) (|gt| by longer_than)",
        f_friction_holds},
+      {"friction_spare", {116}, "(mu * -dot(g, n) - length(g - n * dot(g, n))) * dt", f_friction_spare},
+      {"settle_limit", {116},
+       "-1 if not holds; settle_speed if not spare; else min(settle_speed, friction_spare(g, n, mu, dt))",
+       f_settle_limit},
       {"fold_load_parent", {117},
        "other if state == -1 (kLoadNone), state if state == other, else -2 (kLoadMany); an immovable other side is passed as -2",
        f_fold_load_parent},
@@ -920,6 +932,18 @@ std::vector<Case> cases_for(const std::string& fn, Rng& rng) {
       const V ramp = normalize(V{tilt * dir, Q16::from_int(1), tilt * (Q16::from_int(1) - Num<Q16>::abs(dir))});
       const V g = k % 7 == 0 ? V{} : (k % 5 == 0 ? rng.vec(-10, 10) : V{Q16{}, Q16::from_double(-9.81), Q16{}});
       in = {{"g", to_json(g)}, {"n", to_json(ramp)}, {"mu", to_json(rng.q16(0, 1.2))}};
+    } else if (fn == "friction_spare" || fn == "settle_limit") {
+      const Q16 tilt = rng.q16(0, 1);
+      const Q16 dir = rng.q16(-1, 1);
+      const V ramp = normalize(V{tilt * dir, Q16::from_int(1), tilt * (Q16::from_int(1) - Num<Q16>::abs(dir))});
+      const V g = k % 7 == 0 ? V{} : V{Q16{}, Q16::from_double(-9.81), Q16{}};
+      in = {{"g", to_json(g)}, {"n", to_json(k % 4 == 0 ? V{Q16{}, Q16::from_int(1), Q16{}} : ramp)},
+            {"mu", to_json(rng.q16(0, 1.2))}};
+      if (fn == "friction_spare") in["dt"] = to_json(P.dt);
+      if (fn == "settle_limit") {
+        in["holds"] = k % 5 != 0;
+        in["spare"] = k % 3 != 0;
+      }
     } else if (fn == "fold_load_parent") {
       in = {{"state", k % 4 == 0 ? -1 : (k % 4 == 1 ? -2 : k % 3)}, {"other", k % 5 == 0 ? -2 : (k / 4) % 3}};
       add(in, "", {"Sweep"});
@@ -1313,6 +1337,7 @@ Json shared_for(const std::string& fn) {
   if (fn == "sleep_candidate")
     return shared_params({"sleep_linear", "sleep_angular", "sleep_alignment", "sleep_small_radius", "sleep_corner_speed"});
   if (fn == "support_impact") return shared_params({"slop", "rest_speed"});
+  if (fn == "settle_limit") return shared_params({"settle_speed", "dt"});
   if (fn == "wakes") return shared_params({"wake_speed", "wake_penetration"});
   if (fn == "contact_target_velocity") return shared_params({"dt", "inv_dt"});
   if (fn == "manifold_visit") return shared_params({"dt", "inv_dt", "gravity"});

@@ -90,7 +90,7 @@ LS_HD inline void evaluate_formula_case(int kind, const Params<float>& P, const 
     case kFormulaSettle: {
       Vec3<float> v = v3(0);
       const float speed = settle_linear_velocity(v, v3(3), normalize(v3(6)), Num<float>::abs(in[19]) * 0.01f, P, false,
-                                                 true);
+                                                 P.settle_speed);
       put3(0, v);
       out[3] = speed;
       put3(4, settle_angular_velocity(v3(9), rotation_matrix(q4(12)), normalize(v3(16)), speed, true, in[20] > 0.5f,

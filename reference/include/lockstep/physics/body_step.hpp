@@ -28,17 +28,19 @@ LS_HD void integrate_velocity(Vec3<T>& v, Vec3<T>& w, bool gravity, bool damping
 // the velocity relative to it (`relative`, the oriented-box model) or on v
 // (the source's AABB model). n is the body's support normal (98), gap its
 // support gap (Part 4: 0 when a support contact touches). Returns the speed
-// eq 77 judged, which righting (eqs 67-71) uses. `holds`: friction can hold
-// the body on its support (eq 116); a driven body (a slide down a ramp
-// steeper than its friction) is not damped by eq 77.
+// eq 77 judged, which righting (eqs 67-71) uses. `limit` (m/s): eq 77 damps
+// only a relative speed not above it (eq 116: what friction could stop in
+// the frame; settle_speed with the AABB model or where something holds the
+// body; negative for a driven body, a slide down a ramp steeper than its
+// friction, which is never damped).
 template <class T>
 LS_HD T settle_linear_velocity(Vec3<T>& v, const Vec3<T>& v_support, const Vec3<T>& n, const T& gap,
-                               const Params<T>& P, bool relative, bool holds) {
+                               const Params<T>& P, bool relative, const T& limit) {
   v = cancel_resting_velocity(v, v_support, n, gap * P.inv_dt, P.rest_speed);  // eq 75
   const Vec3<T> base = relative ? v_support : Vec3<T>{};  // the source's AABB model: eq 77 on v itself
   const Vec3<T> rel = v - base;
   const T speed = length(rel);
-  if (holds) v = base + settle_linear(rel, speed, P);  // eq 77, relative to the support; eq 116
+  if (!(speed > limit)) v = base + settle_linear(rel, speed, P);  // eq 77, relative to the support; eq 116
   return speed;
 }
 

@@ -241,6 +241,32 @@ LS_HD bool friction_holds(const Vec3<T>& g, const Vec3<T>& n, const T& mu) {
   return !longer_than(gt, mu * -gn);
 }
 
+// eq 116: the slide friction can stop in one frame beyond holding the body
+// against gravity's pull along its support: (mu (-g.n) - |g_t|) dt (m/s;
+// negative where friction cannot hold it). Eq 77 damps a held body only
+// below it: a slower one friction would stop within the frame anyway, while
+// a faster one is sliding and friction alone decelerates it, at
+// g (mu cos a - sin a) on a ramp; damped there too, a cube pushed down a
+// ramp stopped 4-8 % short of Newton's distance.
+template <class T>
+LS_HD T friction_spare(const Vec3<T>& g, const Vec3<T>& n, const T& mu, const T& dt) {
+  const T gn = dot(g, n);
+  const Vec3<T> gt = g - n * gn;
+  return (mu * -gn - length(gt)) * dt;
+}
+
+// eq 116: the relative speed up to which eq 77 damps a supported body: -1
+// (never) when friction cannot hold it (`holds` false: driven); else, with
+// the oriented-box model and nothing holding it from the side (`spare`),
+// what friction could stop in the frame, at most settle_speed; else (held
+// from the side, or the source's AABB model) settle_speed, eq 77 as written.
+template <class T>
+LS_HD T settle_limit(bool holds, bool spare, const Vec3<T>& g, const Vec3<T>& n, const T& mu, const Params<T>& P) {
+  if (!holds) return -Num<T>::from_int(1);
+  if (!spare) return P.settle_speed;
+  return Num<T>::min(P.settle_speed, friction_spare(g, n, mu, P.dt));
+}
+
 // eq 117 (Part 4): the load a body carries. A body j's load parent is the
 // one body s that all of its support contacts (touching within slop, Part
 // 4) touch, when s is awake and settles before j (settles_before: lower, so
