@@ -1294,7 +1294,9 @@ struct SolveEdgeK {
       if (visit_is_converged(conv, A, B, sc.P, pass)) return;  // eq 113
       const Vec3<float> va0 = A.v, wa0 = A.w, vb0 = B.v, wb0 = B.w;
       SolveCounts counts;
-      solve_manifold<kBoxManifoldPoints>(A, B, point, load, store, sc.friction, sc.gravity, sc.P, counts);
+      // eq 99: two awake bodies, point by point (reversed on odd passes, as World<T>'s visits)
+      solve_pair_points<kBoxManifoldPoints>(A, B, point, load, store, sc.friction, sc.gravity, sc.P, counts,
+                                            (pass & 1) != 0);
       record_visit(conv, va0, wa0, vb0, wb0, A, B, sc.P, counts.shortened_steps);
       if (F4* twin_conv = d.conv_of_pair(ro(mate + t)); conv != nullptr && twin_conv != nullptr)
         for (int q = 0; q < 4; ++q) twin_conv[q] = conv[q];
@@ -1435,8 +1437,12 @@ struct CorrectIntegrateK {
         // not awake, the ground, an SDF volume).
         const int s = ro(sweep.support_idx + i);
         const bool movable = sc.oriented && s >= 0 && is_awake(ro(b.flags + s));
-        wf = settle_angular_velocity(wf, rotation_matrix(q0), xyz(ro(sweep.support_n + i)), speed, !movable,
-                                     sweep.leans(i), sc.P);
+        if (movable)  // eqs 72-74 relative to the support's spin as the solver left it
+          wf = settle_angular_velocity_on(wf, xyz(ro(wpost + s)), rotation_matrix(q0), xyz(ro(sweep.support_n + i)),
+                                          speed, sweep.leans(i), sc.P);
+        else
+          wf = settle_angular_velocity(wf, rotation_matrix(q0), xyz(ro(sweep.support_n + i)), speed, true,
+                                       sweep.leans(i), sc.P);
         add_counter(&ctr[kCSettlingBodies], 1u);
       }
     }

@@ -17,6 +17,10 @@ void World<T>::settle() {
   // settle_order_), so that eq 75 sees a supporting body's final velocity
   // before the body it supports.
   const bool oriented = scene_.pair_contacts == PairModel::kOrientedBox;
+  if (oriented) {  // eqs 72-74 on a movable support: the spin relative to the support's, as the solver left it
+    w_solved_.resize(bodies_.size());
+    for (std::size_t k = 0; k < bodies_.size(); ++k) w_solved_[k] = bodies_[k].w;
+  }
   for (int idx : settle_order_) {
     const auto i = static_cast<std::size_t>(idx);
     Body<T>& b = bodies_[i];
@@ -28,11 +32,15 @@ void World<T>::settle() {
     const bool movable = other >= 0 && bodies_[static_cast<std::size_t>(other)].awake();
     const Vec3<T> v_support = movable ? bodies_[static_cast<std::size_t>(other)].v : Vec3<T>{};
     // The oriented-box model settles relative to the support (eq 77) and damps
-    // spin (eqs 72-74) on immovable supports only; the AABB model as the source.
+    // spin (eqs 72-74) relative to a movable support's; the AABB model as the source.
     const T speed = settle_linear_velocity(b.v, v_support, n, support_gap_[i], P_, oriented,
                                            settle_limit_[i]);  // eqs 75, 77, 116
-    b.w = settle_angular_velocity(b.w, b.R, n, speed, !(oriented && movable), leaning_[i] != 0,
-                                  P_);  // eqs 64-74, 115, up = support normal
+    if (oriented && movable)
+      b.w = settle_angular_velocity_on(b.w, w_solved_[static_cast<std::size_t>(other)], b.R, n, speed,
+                                       leaning_[i] != 0, P_);  // eqs 64-74, 115, relative to the support
+    else
+      b.w = settle_angular_velocity(b.w, b.R, n, speed, true, leaning_[i] != 0,
+                                    P_);  // eqs 64-74, 115, up = support normal
     check_faults(idx, "settling");
   }
 }

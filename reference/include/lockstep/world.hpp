@@ -171,6 +171,7 @@ class World {
   std::vector<int> settle_order_;     // narrow_phase: awake supported bodies in stage 6's order (settle, eq 112's chain)
   std::vector<char> leaning_;         // per body: it leans on what holds it beyond its support (eq 115)
   std::vector<char> over_support_;    // per body: eq 112 lets it settle (its centre of mass is over its support contacts, or it is held by more)
+  std::vector<Vec3<T>> w_solved_;     // stage 6 scratch: per body, its angular velocity as the solver left it (eqs 72-74)
   std::vector<T> settle_limit_;       // per body: eq 77 damps a relative speed up to this (m/s, eq 116)
   std::vector<char> can_rest_;        // per body: statics lets it rest (eqs 116, 117): a sleep candidate (78) only then
   std::vector<int> load_parent_;      // stage 3 scratch: per body, its load parent (eq 117) or kLoadNone
