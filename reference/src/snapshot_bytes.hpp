@@ -4,6 +4,7 @@
 // access goes through memcpy and a bounds check: no casts of the buffer, no
 // reads past its end.
 #pragma once
+#include <bit>
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -66,11 +67,18 @@ class Writer {
 struct Cursor {
   std::uint8_t* p;
   void u8(std::uint8_t v) { *p++ = v; }
-  void u32(std::uint32_t v) {
-    for (int i = 0; i < 4; ++i) *p++ = static_cast<std::uint8_t>(v >> (8 * i));
-  }
-  void u64(std::uint64_t v) {
-    for (int i = 0; i < 8; ++i) *p++ = static_cast<std::uint8_t>(v >> (8 * i));
+  void u32(std::uint32_t v) { store(v); }
+  void u64(std::uint64_t v) { store(v); }
+  // One memcpy on a little-endian host (the bytes are the value's), byte by
+  // byte elsewhere.
+  template <class U>
+  void store(U v) {
+    if constexpr (std::endian::native == std::endian::little) {
+      std::memcpy(p, &v, sizeof v);
+      p += sizeof v;
+    } else {
+      for (std::size_t i = 0; i < sizeof v; ++i) *p++ = static_cast<std::uint8_t>(v >> (8 * i));
+    }
   }
   void varint(std::uint64_t v) {
     while (v >= 0x80) {
@@ -91,13 +99,16 @@ class Reader {
   std::size_t pos() const { return pos_; }
   std::size_t left() const { return size_ - pos_; }
   const std::uint8_t* need(std::size_t n, const char* field) {
-    if (n > left())
-      throw SnapshotError("truncated: " + std::string(field) + " needs " + std::to_string(n) + " bytes at offset " +
-                              std::to_string(pos_) + ", " + std::to_string(left()) + " left",
-                          field);
+    if (n > left()) [[unlikely]]
+      truncated(n, field);
     const std::uint8_t* p = data_ + pos_;
     pos_ += n;
     return p;
+  }
+  [[noreturn]] void truncated(std::size_t n, const char* field) const {
+    throw SnapshotError("truncated: " + std::string(field) + " needs " + std::to_string(n) + " bytes at offset " +
+                              std::to_string(pos_) + ", " + std::to_string(left()) + " left",
+                          field);
   }
   std::uint8_t u8(const char* field) { return *need(1, field); }
   std::uint16_t u16(const char* field) { return static_cast<std::uint16_t>(le(2, field)); }
@@ -142,6 +153,18 @@ class Reader {
  private:
   std::uint64_t le(int n, const char* field) {
     const std::uint8_t* p = need(static_cast<std::size_t>(n), field);
+    if constexpr (std::endian::native == std::endian::little) {
+      if (n == 4) {
+        std::uint32_t v;
+        std::memcpy(&v, p, 4);
+        return v;
+      }
+      if (n == 8) {
+        std::uint64_t v;
+        std::memcpy(&v, p, 8);
+        return v;
+      }
+    }
     std::uint64_t v = 0;
     for (int i = 0; i < n; ++i) v |= static_cast<std::uint64_t>(p[i]) << (8 * i);
     return v;

@@ -248,12 +248,19 @@ Scene read_scene_section(Reader& r, std::uint32_t body_count) {
   const int frames = s.frames;
   if (frames < 0 || frames > kMaxSceneFrames)
     fail("scene.frames", std::to_string(frames) + " is outside [0, " + std::to_string(kMaxSceneFrames) + "]");
+  // Checked as the scene loader checks a scene, with one body per distinct
+  // shape (the bodies are their shapes at the origin: checking each once is
+  // checking them all, and keeps a large pile's load fast).
+  std::vector<BodyDesc> bodies = std::move(s.bodies);
+  s.bodies = std::move(table);
+  s.frames = frames == 0 ? 1 : frames;
   try {
-    s.frames = frames == 0 ? 1 : frames;
     validate_scene(s);
     s.frames = frames;
+    s.bodies = std::move(bodies);
   } catch (const SceneError& e) {
-    throw SnapshotError(std::string("the scene section is not a valid scene: ") + e.what(), "scene." + e.field);
+    throw SnapshotError(std::string("the scene section is not a valid scene: ") + e.what(),
+                        "scene." + (e.field.rfind("bodies[", 0) == 0 ? "shapes" + e.field.substr(6) : e.field));
   }
   return s;
 }
