@@ -195,7 +195,10 @@ void World<T>::read_moving_state(snap::Reader& r, std::uint32_t frame, bool deri
   std::int64_t a = 0;
   for (std::size_t k = 0; k < warm_.size(); ++k) {
     const std::string field = "warm[" + std::to_string(k) + "]";
-    a += r.svarint("warm.a");
+    const std::int64_t step = r.svarint("warm.a");
+    if (step < 0 || step >= static_cast<std::int64_t>(n))  // checked before the sum: no overflow
+      refuse(field, "a steps by " + std::to_string(step) + " (bodies: " + std::to_string(n) + ")");
+    a += step;
     const std::int64_t b = r.svarint("warm.b");
     const std::int64_t feature = r.svarint("warm.feature");
     const T j_n = C::get(r, "warm.j_n");
