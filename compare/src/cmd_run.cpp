@@ -1,11 +1,15 @@
 // `lockstep run [SCENE] --engine E`: runs a scene and writes its trajectory
 // (CSV or JSON lines), the per-frame state hashes (eq 92) and the run record
-// that `lockstep view` reads (lockstep/compare/view.hpp).
+// that `lockstep view` reads (lockstep/compare/view.hpp). --save-state writes
+// the engine's snapshot after the last frame; --load-state resumes from one
+// (docs/SNAPSHOTS.md): the scene and the engine are the snapshot's, frame
+// numbers go on from its frame.
 #include <algorithm>
 #include <chrono>
 #include <cinttypes>
 #include <cstdio>
 #include <fstream>
+#include <iterator>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -23,7 +27,8 @@ using compare::hash_hex;
 using compare::kRunRecordSuffix;
 
 struct RunOptions {
-  std::string scene, engine = "fixed", out, format = "csv";
+  std::string scene, engine = "fixed", out, format = "csv", save_state, load_state;
+  bool engine_given = false;
   int frames = -1;
   long long every = 1;
   bool raw = false, quiet = false, no_progress = false, contacts = false;
@@ -74,15 +79,43 @@ std::string penetration_text(double m) {
   return buf;
 }
 
-int run_command(const RunOptions& o) {
-  Scene scene = resolve_scene(o.scene);
-  if (o.frames >= 0) scene.frames = o.frames;
+std::vector<std::uint8_t> read_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::invalid_argument("--load-state: cannot read '" + path + "'");
+  return std::vector<std::uint8_t>(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+int run_command(RunOptions o) {
+  Scene scene;
+  std::unique_ptr<EngineRun> engine;
+  set_quiet_engines(o.quiet);
+  if (!o.load_state.empty()) {
+    if (!o.scene.empty())
+      throw std::invalid_argument("SCENE '" + o.scene + "' and --load-state: the scene is in the snapshot; give one of them");
+    ResumedEngine resumed;
+    try {
+      resumed = engine_from_snapshot(read_bytes(o.load_state));
+    } catch (const SnapshotError& e) {
+      throw std::invalid_argument("--load-state: " + o.load_state + ": " + e.what());
+    }
+    if (o.engine_given && o.engine != resumed.engine->name())
+      throw std::invalid_argument("--engine " + o.engine + ": '" + o.load_state + "' is a snapshot of the " +
+                                  resumed.engine->name() + " engine; omit --engine or give --engine " + resumed.engine->name());
+    o.engine = resumed.engine->name();
+    engine = std::move(resumed.engine);
+    scene = std::move(resumed.scene);
+    // --frames: frames to run from the snapshot's; by default what is left of the scene's.
+    scene.frames = o.frames >= 0 ? o.frames : std::max(0, scene.frames - engine->frame());
+  } else {
+    scene = resolve_scene(o.scene);
+    if (o.frames >= 0) scene.frames = o.frames;
+  }
   const bool jsonl = o.format == "jsonl";
   if (o.raw && o.engine != "fixed") throw std::invalid_argument("--raw: only the fixed engine has raw Q16.16 state");
   const std::string out_path = o.out.empty() ? scene.name + "-" + o.engine + "." + o.format : o.out;
 
-  set_quiet_engines(o.quiet);
-  std::unique_ptr<EngineRun> engine = make_engine(o.engine, scene);
+  if (!engine) engine = make_engine(o.engine, scene);
+  if (!o.save_state.empty()) (void)engine->save_state();  // an engine without snapshots is refused before the run
   std::ofstream file;
   std::ostream* out = &std::cout;
   if (out_path != "-") {
@@ -116,6 +149,15 @@ int run_command(const RunOptions& o) {
     progress.update(f + 1);
   }
   progress.finish();
+  if (!o.save_state.empty()) {
+    const std::vector<std::uint8_t> bytes = engine->save_state();
+    std::ofstream state(o.save_state, std::ios::binary);
+    if (!state.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size())))
+      throw std::invalid_argument("--save-state: cannot write '" + o.save_state + "'");
+    if (!o.quiet)
+      std::fprintf(stderr, "lockstep run: state after frame %d written to %s (%zu bytes)\n", engine->frame(),
+                   o.save_state.c_str(), bytes.size());
+  }
   const double ms = scene.frames ? 1e3 * step_seconds / scene.frames : 0.0;
   const int asleep_at = record.all_asleep_frame();
   const std::string record_path = out_path + kRunRecordSuffix;
@@ -149,8 +191,13 @@ std::function<int()> define(CLI::App& app) {
   auto o = std::make_shared<RunOptions>();
   app.add_option("SCENE", o->scene, "built-in scene name (lockstep scenes) or a JSON scene file; default: " +
                                         std::string(kDefaultSceneName));
-  app.add_option("--engine", o->engine, "the engine")->check(one_of(accepted_engine_names()))->capture_default_str();
-  app.add_option("--frames", o->frames, "frames to run (default: the scene's)")->check(integer_in(0, 10'000'000));
+  CLI::Option* engine = app.add_option("--engine", o->engine, "the engine (with --load-state: the snapshot's)")
+                           ->check(one_of(accepted_engine_names()))->capture_default_str();
+  app.add_option("--frames", o->frames, "frames to run (default: the scene's; with --load-state, what is left of them)")
+      ->check(integer_in(0, 10'000'000));
+  app.add_option("--save-state", o->save_state, "write the engine's snapshot after the last frame to FILE (docs/SNAPSHOTS.md)");
+  app.add_option("--load-state", o->load_state,
+                 "resume from the snapshot in FILE (its scene and engine; frame numbers go on from its frame)");
   app.add_option("--out", o->out,
                  "trajectory file, or - for stdout (default: SCENE-ENGINE.FORMAT); a CSV file gets FILE.hashes and "
                  "FILE" + std::string(kRunRecordSuffix) + " (what `lockstep view` reads) beside it");
@@ -162,13 +209,17 @@ std::function<int()> define(CLI::App& app) {
   app.add_flag("--quiet", o->quiet,
                "no progress or summary; one final line: frames, ms/step, hash, all-asleep frame, worst penetration");
   app.add_flag("--no-progress", o->no_progress, "no progress bar");
-  return [o] { return run_command(*o); };
+  return [o, engine] {
+    o->engine_given = engine->count() > 0;
+    return run_command(*o);
+  };
 }
 
 const bool registered = register_command(
     {"run", "run a scene; write its trajectory, per-frame hashes and run record",
      "  lockstep run stack5 --engine double --every 10 --out stack5.csv\n"
-     "  lockstep run drop --quiet --out -  > /dev/null\n",
+     "  lockstep run drop --quiet --out -  > /dev/null\n"
+     "  lockstep run stack5 --frames 100 --save-state s.bin && lockstep run --load-state s.bin --frames 100\n",
      define});
 
 }  // namespace

@@ -48,6 +48,29 @@ std::vector<ContactSnapshot> WorldRun<T>::contacts() const {
   return out;
 }
 
+std::vector<std::uint8_t> EngineRun::save_state() const {
+  throw std::invalid_argument("the " + name() + " engine has no snapshots (the CPU engines fixed, float, double and mp have)");
+}
+
+namespace {
+template <class T>
+ResumedEngine resumed(const std::vector<std::uint8_t>& bytes) {
+  World<T> w = World<T>::load_state(bytes);
+  Scene scene = w.scene();
+  return {std::make_unique<WorldRun<T>>(std::move(w)), std::move(scene)};
+}
+}  // namespace
+
+ResumedEngine engine_from_snapshot(const std::vector<std::uint8_t>& bytes) {
+  switch (read_snapshot_info(bytes.data(), bytes.size()).number) {
+    case SnapshotNumber::kFixed: return resumed<Q16>(bytes);
+    case SnapshotNumber::kFloat: return resumed<float>(bytes);
+    case SnapshotNumber::kDouble: return resumed<double>(bytes);
+    case SnapshotNumber::kMp: return resumed<Mp>(bytes);
+  }
+  throw SnapshotError("unknown number type", "header.number_type");
+}
+
 template class WorldRun<Q16>;
 template class WorldRun<float>;
 template class WorldRun<double>;

@@ -17,6 +17,8 @@
 #include "queries.hpp"
 #include "settle.hpp"
 #include "sleep.hpp"
+#include "snapshot.hpp"
+#include "snapshot_scene.hpp"
 
 namespace lockstep {
 
@@ -26,7 +28,9 @@ Vec3<T> to_vec(const Vec3d& v) { return {Num<T>::from_double(v.x), Num<T>::from_
 }  // namespace world_detail
 
 template <class T>
-World<T>::World(const Scene& scene) : scene_(scene), P_(Params<T>::from(scene.constants)) {
+World<T>::World(const Scene& scene)
+    : scene_(scene), scene_section_(snap::encode_scene_section(scene)), constants_hash_(snap::constants_hash(scene.constants)),
+      P_(Params<T>::from(scene.constants)) {
   Num<T>::take_faults();
   auto n = [](double x) { return Num<T>::from_double(x); };
   ground_y_ = n(scene.ground.height);
@@ -91,6 +95,8 @@ template <class T>
 World<T>& World<T>::operator=(const World& other) {
   if (this == &other) return *this;
   scene_ = other.scene_;
+  scene_section_ = other.scene_section_;
+  constants_hash_ = other.constants_hash_;
   P_ = other.P_;
   bodies_ = other.bodies_;
   sdf_values_ = other.sdf_values_;

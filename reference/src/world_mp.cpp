@@ -1,5 +1,6 @@
 // World<Mp>: the mp engine.
 #include "lockstep/math/num_mp.hpp"
+#include "snapshot_mp.hpp"
 #include "world_impl.hpp"
 
 namespace lockstep {

@@ -298,6 +298,51 @@ d = page_data(os.path.join(WORK, "b1.html"))
 check(d["comparison"]["tolerance_name"] == "trajectory tolerance" and "trajectory tolerance" in d["comparison"]["tolerance_note"],
       "the page names the tolerance it judges against")
 
+
+def snapshots():
+    """Issue 32: `run SCENE --frames N --save-state FILE` then `run --load-state
+    FILE --frames N` gives the hashes of frames N+1..2N of `run SCENE --frames
+    2N`, on fixed and double (frame numbers go on); the CSV starts at frame N;
+    a bad, foreign or unreadable snapshot is one line on stderr (exit 2)."""
+    def hashes(path):
+        return open(os.path.join(WORK, path)).read().splitlines()[1:]
+    for engine, scene, n in [("fixed", "pyramid", 40), ("double", "tip_corner", 25), ("float", "bowl", 30)]:
+        full = run("run", scene, "--engine", engine, "--frames", str(2 * n), "--out", "full-%s.csv" % engine, "--quiet")
+        first = run("run", scene, "--engine", engine, "--frames", str(n), "--out", "first-%s.csv" % engine, "--quiet",
+                    "--save-state", "state-%s.bin" % engine)
+        rest = run("run", "--load-state", "state-%s.bin" % engine, "--frames", str(n), "--out", "rest-%s.csv" % engine, "--quiet")
+        check(full.returncode == 0 and first.returncode == 0 and rest.returncode == 0,
+              "snapshots %s: the three runs exit 0 (got %r %r %r)" % (engine, full.stderr, first.stderr, rest.stderr))
+        if rest.returncode != 0:
+            continue
+        h_full, h_rest = hashes("full-%s.csv.hashes" % engine), hashes("rest-%s.csv.hashes" % engine)
+        check(len(h_rest) == n and h_rest == h_full[n:],
+              "snapshots %s/%s: run to %d = run to %d + resume %d (hashes lines; got %r vs %r)"
+              % (engine, scene, 2 * n, n, n, h_rest[:2], h_full[n:n + 2]))
+        check(h_full[n:] != h_full[n - 1:-1], "snapshots %s/%s: the scene still moves after frame %d" % (engine, scene, n))
+        rows = list(csv.DictReader(open(os.path.join(WORK, "rest-%s.csv" % engine))))
+        check(rows and rows[0]["frame"] == str(n) and rows[-1]["frame"] == str(2 * n),
+              "snapshots %s: the resumed trajectory runs from frame %d to %d" % (engine, n, 2 * n))
+        check(("%s %s: %d frames" % (scene, engine, 2 * n)) in rest.stdout, "snapshots %s: the summary counts frames on (got %r)"
+              % (engine, rest.stdout))
+    bad = os.path.join(WORK, "bad-state.bin")
+    blob = bytearray(open(os.path.join(WORK, "state-fixed.bin"), "rb").read())
+    blob[len(blob) // 2] ^= 1
+    open(bad, "wb").write(bytes(blob))
+    open(os.path.join(WORK, "short-state.bin"), "wb").write(bytes(blob[:30]))
+    for args, says in [(["--load-state", "bad-state.bin"], "checksum"),
+                       (["--load-state", "short-state.bin"], "truncated"),
+                       (["--load-state", "full-fixed.csv"], "not a lockstep snapshot"),
+                       (["--load-state", "missing.bin"], "cannot read 'missing.bin'"),
+                       (["--load-state", "state-fixed.bin", "--engine", "float"], "a snapshot of the fixed engine"),
+                       (["pyramid", "--load-state", "state-fixed.bin"], "the scene is in the snapshot")]:
+        r = run("run", *args, "--out", "x.csv", "--quiet")
+        check(r.returncode == 2 and r.stderr.startswith("lockstep run: ") and r.stderr.count("\n") == 1 and says in r.stderr,
+              "snapshots: run %s exits 2 with one line saying %r (got %d: %r)" % (" ".join(args), says, r.returncode, r.stderr))
+
+
+snapshots()
+
 if failures:
     print("%d check(s) failed" % len(failures))
     sys.exit(1)

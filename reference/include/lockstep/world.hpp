@@ -14,8 +14,13 @@
 #include "lockstep/physics/sdf.hpp"
 #include "lockstep/physics/solver.hpp"
 #include "lockstep/scene.hpp"
+#include "lockstep/snapshot.hpp"
 
 namespace lockstep {
+
+namespace snap {
+class Reader;
+}  // namespace snap
 
 // A run that cannot go on: a Q16.16 overflow or other numeric fault (fixed),
 // or a non-finite value (float engines). Names body, frame and quantity.
@@ -100,6 +105,9 @@ class World {
   // views are re-pointed at the copy's own samples).
   World(const World& other);
   World& operator=(const World& other);
+  // Moving keeps the SDF views valid (the samples' buffers move with them).
+  World(World&&) noexcept = default;
+  World& operator=(World&&) noexcept = default;
 
   // Advances one frame (docs/SPEC.md 7.2). Throws RunError on a numeric fault.
   void step();
@@ -125,6 +133,30 @@ class World {
   // Replaces body i's velocities (and wakes it): what a game's input does.
   void set_velocity(int i, const Vec3<T>& v, const Vec3<T>& w);
 
+  // Snapshots (docs/SNAPSHOTS.md): the whole state the following frames
+  // depend on (the scene's constant part, every body's pose, velocities and
+  // sleep state, eq 108's records, the warm-start cache, the frame and the
+  // counters) as versioned little-endian bytes. Loading a snapshot and
+  // stepping gives, frame for frame, the bits the saved world would have.
+  std::vector<std::uint8_t> save_state() const;
+  // The same into `out` (its contents replaced, its capacity reused).
+  void save_state(std::vector<std::uint8_t>& out) const;
+  // A world built from a snapshot alone. Throws SnapshotError for a
+  // truncated, corrupt or foreign snapshot (another number type or format
+  // version), naming what is wrong. Its scene() is the snapshot's scene, the
+  // bodies' initial state being the saved state (converted to double).
+  static World load_state(const std::uint8_t* data, std::size_t size);
+  static World load_state(const std::vector<std::uint8_t>& bytes) { return load_state(bytes.data(), bytes.size()); }
+  // Replaces this world's state by the snapshot's. When the snapshot is of
+  // this world's scene (its scene section is this world's, byte for byte)
+  // only the moving state is read (the rollback case); otherwise the world is
+  // rebuilt as load_state does. Throws SnapshotError; after a throw the world
+  // is a world of its scene in an unspecified (valid) state.
+  void restore_state(const std::uint8_t* data, std::size_t size);
+  void restore_state(const std::vector<std::uint8_t>& bytes) { restore_state(bytes.data(), bytes.size()); }
+  // FNV-1a 64 of the scene's constants block (the snapshot header's).
+  std::uint64_t constants_hash() const { return constants_hash_; }
+
   // Appendix B queries; results in ascending body order.
   RayHit<T> raycast(const Vec3<T>& origin, const Vec3<T>& dir, const T& max_distance) const;
   std::vector<int> overlap_aabb(const Vec3<T>& lo, const Vec3<T>& hi) const;
@@ -147,8 +179,11 @@ class World {
   Vec3<T> support_normal(std::size_t i) const;  // body i's support normal (4.1), towards i
   void check_faults(int body, const char* quantity);
   void check_finite();
+  void read_moving_state(snap::Reader& r, std::uint32_t frame, bool derived_valid);  // snapshot.hpp
 
   Scene scene_;
+  std::vector<std::uint8_t> scene_section_;  // the snapshot's scene section (snapshot_scene.hpp)
+  std::uint64_t constants_hash_ = 0;
   Params<T> P_;
   std::vector<Body<T>> bodies_;
   std::vector<std::vector<T>> sdf_values_;

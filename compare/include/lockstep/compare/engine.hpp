@@ -5,6 +5,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "lockstep/scene.hpp"
@@ -63,6 +64,9 @@ class EngineRun {
   virtual bool has_contacts() const { return false; }
   // The contacts found in the last step, in the engine's order.
   virtual std::vector<ContactSnapshot> contacts() const { return {}; }
+  // The engine's snapshot (docs/SNAPSHOTS.md); the CPU engines have them, the
+  // others throw std::invalid_argument.
+  virtual std::vector<std::uint8_t> save_state() const;
 };
 
 // Engine names in a fixed order; "gpu" is present when the GPU engine is built
@@ -93,11 +97,21 @@ void set_quiet_engines(bool quiet);
 // "host build only (no CUDA)", or "not built".
 std::string gpu_build_description();
 
+// A CPU engine resumed from a snapshot: World<T>::load_state on the number
+// type the snapshot's header names, and the loaded world's scene. Throws
+// SnapshotError for a bad snapshot.
+struct ResumedEngine {
+  std::unique_ptr<EngineRun> engine;
+  Scene scene;
+};
+ResumedEngine engine_from_snapshot(const std::vector<std::uint8_t>& bytes);
+
 // The CPU engines: a World<T> behind EngineRun.
 template <class T>
 class WorldRun final : public EngineRun {
  public:
   explicit WorldRun(const Scene& scene) : world_(scene) {}
+  explicit WorldRun(World<T>&& world) : world_(std::move(world)) {}
   std::string name() const override { return Num<T>::kName; }
   std::string description() const override;
   void step() override { world_.step(); }
@@ -110,6 +124,7 @@ class WorldRun final : public EngineRun {
   std::vector<std::int32_t> raw_state(int i) const override;
   bool has_contacts() const override { return true; }
   std::vector<ContactSnapshot> contacts() const override;
+  std::vector<std::uint8_t> save_state() const override { return world_.save_state(); }
   World<T>& world() { return world_; }
   const World<T>& world() const { return world_; }
 
