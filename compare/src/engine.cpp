@@ -48,10 +48,6 @@ std::vector<ContactSnapshot> WorldRun<T>::contacts() const {
   return out;
 }
 
-std::vector<std::uint8_t> EngineRun::save_state() const {
-  throw std::invalid_argument("the " + name() + " engine has no snapshots (the CPU engines fixed, float, double and mp have)");
-}
-
 namespace {
 template <class T>
 ResumedEngine resumed(const std::vector<std::uint8_t>& bytes) {

@@ -3,6 +3,7 @@
 // constants hash and the header. snapshot_scene.cpp; World<T>'s parts are in
 // snapshot.hpp.
 #pragma once
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -11,6 +12,41 @@
 #include "snapshot_bytes.hpp"
 
 namespace lockstep::snap {
+
+namespace detail {
+// The longest name a snapshot may hold (bytes).
+inline constexpr std::size_t kMaxNameBytes = 1u << 20;
+
+// Every field of Constants, in declaration order. A field added to Constants
+// changes its size: the static_assert asks for it to be added here (and the
+// format version raised).
+template <class C, class D, class I>
+inline void each_constant(C& c, D&& dbl, I&& integer) {
+  dbl(c.dt);
+  dbl(c.gravity.x); dbl(c.gravity.y); dbl(c.gravity.z);
+  dbl(c.linear_damping); dbl(c.angular_damping); dbl(c.cell_size); dbl(c.slop); dbl(c.baumgarte);
+  integer(c.solver_iterations);
+  dbl(c.contact_tolerance); dbl(c.converged_speed); dbl(c.kp); dbl(c.kd); dbl(c.speed_factor_min);
+  dbl(c.speed_factor_max); dbl(c.support_normal_min); dbl(c.align_fine); dbl(c.align_good); dbl(c.align_fair);
+  dbl(c.damp_fine); dbl(c.damp_good); dbl(c.damp_fair); dbl(c.rest_speed); dbl(c.restitution_min_speed);
+  dbl(c.settle_speed); dbl(c.settle_damping); dbl(c.sleep_linear); dbl(c.sleep_angular); dbl(c.sleep_alignment);
+  integer(c.drowsy_frames);
+  dbl(c.drowsy_damping);
+  integer(c.sleep_frames);
+  dbl(c.wake_speed); dbl(c.wake_penetration); dbl(c.wake_support_distance);
+}
+static_assert(sizeof(Constants) == 33 * sizeof(double) + 3 * alignof(double) || sizeof(Constants) == 33 * sizeof(double) + 3 * sizeof(int), "a constant was added: add it to each_constant and raise kSnapshotVersion");
+
+
+inline Effects effects_of(std::uint16_t v) {
+  Effects fx;
+  bool* bits[] = {&fx.gravity, &fx.damping, &fx.ground, &fx.contacts, &fx.friction, &fx.restitution, &fx.settling, &fx.sleep, &fx.sdf};
+  for (int i = 0; i < 9; ++i) *bits[i] = (v >> i) & 1u;
+  return fx;
+}
+
+}  // namespace detail
+
 
 // The scene section of `scene`'s snapshots: name, frames, pair model,
 // effects, constants, ground, SDF volumes, the table of distinct body shapes

@@ -1,4 +1,5 @@
 // World<double>: the double engine.
+#include "snapshot_load.hpp"
 #include "world_impl.hpp"
 
 namespace lockstep {

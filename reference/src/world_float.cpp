@@ -1,4 +1,5 @@
 // World<float>: the float engine.
+#include "snapshot_load.hpp"
 #include "world_impl.hpp"
 
 namespace lockstep {

@@ -1,6 +1,7 @@
 // World<Mp>: the mp engine.
 #include "lockstep/math/num_mp.hpp"
 #include "snapshot_mp.hpp"
+#include "snapshot_load.hpp"
 #include "world_impl.hpp"
 
 namespace lockstep {

@@ -146,14 +146,14 @@ class World {
   // version), naming what is wrong. Its scene() is the snapshot's scene, the
   // bodies' initial state being the saved state (converted to double).
   static World load_state(const std::uint8_t* data, std::size_t size);
-  static World load_state(const std::vector<std::uint8_t>& bytes) { return load_state(bytes.data(), bytes.size()); }
+  static World load_state(const std::vector<std::uint8_t>& bytes);
   // Replaces this world's state by the snapshot's. When the snapshot is of
   // this world's scene (its scene section is this world's, byte for byte)
   // only the moving state is read (the rollback case); otherwise the world is
   // rebuilt as load_state does. Throws SnapshotError; after a throw the world
   // is a world of its scene in an unspecified (valid) state.
   void restore_state(const std::uint8_t* data, std::size_t size);
-  void restore_state(const std::vector<std::uint8_t>& bytes) { restore_state(bytes.data(), bytes.size()); }
+  void restore_state(const std::vector<std::uint8_t>& bytes);
   // FNV-1a 64 of the scene's constants block (the snapshot header's).
   std::uint64_t constants_hash() const { return constants_hash_; }
 

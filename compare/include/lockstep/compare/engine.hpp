@@ -3,6 +3,7 @@
 #pragma once
 #include <cstdint>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -66,7 +67,11 @@ class EngineRun {
   virtual std::vector<ContactSnapshot> contacts() const { return {}; }
   // The engine's snapshot (docs/SNAPSHOTS.md); the CPU engines have them, the
   // others throw std::invalid_argument.
-  virtual std::vector<std::uint8_t> save_state() const;
+  // Inline: the GPU engine's library derives from EngineRun without linking this one.
+  virtual std::vector<std::uint8_t> save_state() const {
+    throw std::invalid_argument("the " + name() +
+                                " engine has no snapshots (the CPU engines fixed, float, double and mp have)");
+  }
 };
 
 // Engine names in a fixed order; "gpu" is present when the GPU engine is built
