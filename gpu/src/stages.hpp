@@ -1294,9 +1294,7 @@ struct SolveEdgeK {
       if (visit_is_converged(conv, A, B, sc.P, pass)) return;  // eq 113
       const Vec3<float> va0 = A.v, wa0 = A.w, vb0 = B.v, wb0 = B.w;
       SolveCounts counts;
-      // eq 99: two awake bodies, point by point (reversed on odd passes, as World<T>'s visits)
-      solve_pair_points<kBoxManifoldPoints>(A, B, point, load, store, sc.friction, sc.gravity, sc.P, counts,
-                                            (pass & 1) != 0);
+      solve_manifold<kBoxManifoldPoints>(A, B, point, load, store, sc.friction, sc.gravity, sc.P, counts);
       record_visit(conv, va0, wa0, vb0, wb0, A, B, sc.P, counts.shortened_steps);
       if (F4* twin_conv = d.conv_of_pair(ro(mate + t)); conv != nullptr && twin_conv != nullptr)
         for (int q = 0; q < 4; ++q) twin_conv[q] = conv[q];

