@@ -12,11 +12,15 @@
 //   mass of some upper part lies 3-12 cm beyond the edge of the cube under
 //   it: statics says they fall (some cube ends half its size or more below
 //   where it started). Before eq 117 the upper cubes settled and slept
-//   leaning: 8 of 10 stood. Towers whose every upper part's centre lies
-//   3-12 cm inside the edge stand (at least 99 % of them on every engine).
-//   At every frame no cube sleeps with the load it carries beyond its
-//   support by more than 1 cm. kTowerCases per engine in CI,
-//   LOCKSTEP_TOWER_CASES (10,000) under the label long.
+//   leaning: 8 of 10 stood (now none of 1,420 generated ones; at the
+//   1,421st of the long run a cube fell asleep under a load that then
+//   leaned 1.9 cm beyond its support, which a sleeper's load does not wake:
+//   docs/STATICS.md "What is left"). Towers whose every upper part's centre lies
+//   3-12 cm inside the edge stand (99.4 % of 10,000 in fixed and double;
+//   at most 2 % wrong allowed). At every frame no cube sleeps with the load
+//   it carries beyond its support by more than 1 cm. kTowerCases per engine
+//   in CI (drawn from a fixed seed: the same towers every run),
+//   LOCKSTEP_TOWER_CASES (10,000) under the label long (fresh ones).
 #include <gtest/gtest.h>
 #include <rapidcheck.h>
 
@@ -291,17 +295,36 @@ void check_falls(const Tower& t) {
                                        std::to_string(drop) + " m");
 }
 
+// check_prop with rapidcheck's seed fixed (CI: the same towers every run)
+// unless LOCKSTEP_TOWER_CASES asks for the long run or RC_PARAMS names one.
+template <class Testable>
+void check_prop_seeded(Testable&& testable, int cases) {
+  rc::detail::TestParams params = rc::detail::configuration().testParams;
+  params.maxSuccess = std::max(params.maxSuccess, cases);
+  if (kTowerCases <= 200 && std::getenv("RC_PARAMS") == nullptr) params.seed = 20261128;
+  rc::detail::TestMetadata metadata;
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  metadata.id = std::string(info->test_suite_name()) + "/" + info->name();
+  metadata.description = info->name();
+  const auto result = rc::detail::checkTestable(std::forward<Testable>(testable), metadata, params);
+  if (!result.template is<rc::detail::SuccessResult>()) {
+    std::ostringstream ss;
+    rc::detail::printResultMessage(result, ss);
+    FAIL() << ss.str();
+  }
+}
+
 TEST(StaticsProp, OverhangBeyondTheEdgeFallsFixed) {
-  ::lockstep_test::check_prop([] { check_falls<Engine<Q16>>(*tower_gen(true)); }, kTowerCases);
+  check_prop_seeded([] { check_falls<Engine<Q16>>(*tower_gen(true)); }, kTowerCases);
 }
 TEST(StaticsProp, OverhangBeyondTheEdgeFallsFloat) {
-  ::lockstep_test::check_prop([] { check_falls<Engine<float>>(*tower_gen(true)); }, kTowerCases);
+  check_prop_seeded([] { check_falls<Engine<float>>(*tower_gen(true)); }, kTowerCases);
 }
 TEST(StaticsProp, OverhangBeyondTheEdgeFallsDouble) {
-  ::lockstep_test::check_prop([] { check_falls<Engine<double>>(*tower_gen(true)); }, kTowerCases);
+  check_prop_seeded([] { check_falls<Engine<double>>(*tower_gen(true)); }, kTowerCases);
 }
 TEST(StaticsProp, OverhangBeyondTheEdgeFallsGpu) {
-  ::lockstep_test::check_prop([] { check_falls<GpuEngine>(*tower_gen(true)); }, kTowerCases);
+  check_prop_seeded([] { check_falls<GpuEngine>(*tower_gen(true)); }, kTowerCases);
 }
 
 // A tower whose every upper part's centre lies 3-12 cm inside the edge under
@@ -336,24 +359,6 @@ std::string stands(const Tower& t) {
   ss << "a tower of " << e.count() << " cubes of " << t.size << " m, margin " << t.margin * 100
      << " cm: largest move " << moved << " m, all asleep " << asleep;
   return ss.str();
-}
-
-// check_prop with rapidcheck's seed fixed (CI: the same towers every run)
-// unless LOCKSTEP_TOWER_CASES asks for the long run or RC_PARAMS names one.
-template <class Testable>
-void check_prop_seeded(Testable&& testable, int cases) {
-  rc::detail::TestParams params = rc::detail::configuration().testParams;
-  params.maxSuccess = std::max(params.maxSuccess, cases);
-  if (kTowerCases <= 200 && std::getenv("RC_PARAMS") == nullptr) params.seed = 20261128;
-  rc::detail::TestMetadata metadata;
-  metadata.id = "StaticsProp/stand";
-  metadata.description = "towers that statics says stand";
-  const auto result = rc::detail::checkTestable(std::forward<Testable>(testable), metadata, params);
-  if (!result.template is<rc::detail::SuccessResult>()) {
-    std::ostringstream ss;
-    rc::detail::printResultMessage(result, ss);
-    FAIL() << ss.str();
-  }
 }
 
 template <class E>
