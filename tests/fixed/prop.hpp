@@ -4,6 +4,8 @@
 // works (seed=..., or a larger max_success).
 #pragma once
 #include <algorithm>
+#include <cstdint>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -21,10 +23,13 @@ inline constexpr int kDefaultCases = 20000;
 inline constexpr int kCases = LOCKSTEP_LONG_CASES > 0 ? LOCKSTEP_LONG_CASES : kDefaultCases;
 inline constexpr bool kLongRun = LOCKSTEP_LONG_CASES > 0;
 
+// `seed`: rapidcheck's seed for this property (the same cases every run);
+// none: the configured one (RC_PARAMS, else random).
 template <class Testable>
-void check_prop(Testable&& testable, int cases) {
+void check_prop(Testable&& testable, int cases, std::optional<std::uint64_t> seed = std::nullopt) {
   rc::detail::TestParams params = rc::detail::configuration().testParams;
   params.maxSuccess = std::max(params.maxSuccess, cases);
+  if (seed) params.seed = *seed;
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
   rc::detail::TestMetadata metadata;
   metadata.id = std::string(info->test_suite_name()) + "/" + info->name();

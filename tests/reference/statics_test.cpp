@@ -28,6 +28,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <optional>
 #include <string>
 #include <sstream>
 #include <vector>
@@ -299,19 +300,9 @@ void check_falls(const Tower& t) {
 // unless LOCKSTEP_TOWER_CASES asks for the long run or RC_PARAMS names one.
 template <class Testable>
 void check_prop_seeded(Testable&& testable, int cases) {
-  rc::detail::TestParams params = rc::detail::configuration().testParams;
-  params.maxSuccess = std::max(params.maxSuccess, cases);
-  if (kTowerCases <= 200 && std::getenv("RC_PARAMS") == nullptr) params.seed = 20261128;
-  rc::detail::TestMetadata metadata;
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  metadata.id = std::string(info->test_suite_name()) + "/" + info->name();
-  metadata.description = info->name();
-  const auto result = rc::detail::checkTestable(std::forward<Testable>(testable), metadata, params);
-  if (!result.template is<rc::detail::SuccessResult>()) {
-    std::ostringstream ss;
-    rc::detail::printResultMessage(result, ss);
-    FAIL() << ss.str();
-  }
+  const bool fixed = kTowerCases <= 200 && std::getenv("RC_PARAMS") == nullptr;
+  ::lockstep_test::check_prop(std::forward<Testable>(testable), cases,
+                              fixed ? std::optional<std::uint64_t>(20261128) : std::nullopt);
 }
 
 TEST(StaticsProp, OverhangBeyondTheEdgeFallsFixed) {
