@@ -85,4 +85,34 @@ struct LoadOverK {
   }
 };
 
+// eq 117, after LoadOverK: whether something in a body's load tips (it, or
+// a load child's load), one sweep from the previous sweep's `in` (zero
+// before the first); the fixed point is World<T>'s top-down pass. The last
+// call (`can_rest` set, `changed` null) also takes a body whose load
+// children's loads tip out of the sleep candidates.
+struct LoadTipsK {
+  const int* list;
+  BodyArrays b;
+  NeighbourLists lists;
+  const int* load_parent;
+  const int* over_support;  // per body (eq 112, LoadOverK)
+  const int* support_idx;   // per body: an unsupported body is no one's load child and is left alone
+  const int* in;
+  int* out;
+  int* changed;
+  int* can_rest;  // per body; the last call only
+  LS_HD void operator()(int k) const {
+    const int i = ro(list + k);
+    bool child_tips = false;
+    for (int t = lists.begin(k), end = lists.end(k); t < end && !child_tips; ++t) {
+      const int j = ro(lists.nbr + t);
+      child_tips = is_awake(ro(b.flags + j)) && ro(load_parent + j) == i && ro(in + j) != 0;
+    }
+    const int tips = load_tips(ro(over_support + i) != 0, child_tips) ? 1 : 0;
+    out[i] = tips;
+    if (changed != nullptr) add_to(changed, tips != ro(in + i) ? 1 : 0);
+    if (can_rest != nullptr && ro(support_idx + i) != kNoSupport && !load_rests(child_tips)) can_rest[i] = 0;
+  }
+};
+
 }  // namespace lockstep::gpu

@@ -25,6 +25,13 @@ struct RestArrays {
 };
 inline constexpr int kMaxRests = 4;
 
+// eq 118's records, per body: written when it falls asleep (SleepApplyK).
+struct SleepSupportArrays {
+  int* parent = nullptr;  // its load parent then (eq 117, kLoadNone: none)
+  int* count = nullptr;   // its support points then (kMaxSupportPoints + 1: many)
+  F4* arms = nullptr;     // kMaxSupportPoints per body: their lever arms' horizontal parts
+};
+
 // ---------------------------------------------------------------------------
 // Eq 112's chain (stage 3, after ContactsK), one sweep over the active
 // bodies: body i is over its support when ContactsK found it so (`over0`)
@@ -392,9 +399,22 @@ struct SleepApplyK {
   float* grow;
   int frame;
   int* keep;
+  // eq 118: the load parents (per body) and support points (per slot,
+  // ContactsK) to record; records.parent null: none (the AABB model).
+  const int* load_parent = nullptr;
+  const F4* arms = nullptr;
+  const int* n_arms = nullptr;
+  SleepSupportArrays records{};
   LS_HD void operator()(int k) const {
     if (sleeps[k] == 0) return;
     const int i = list[k];
+    if (records.parent != nullptr) {  // eq 118
+      records.parent[i] = load_parent[i];
+      const int count = n_arms[k];
+      records.count[i] = count;
+      for (int a = 0; a < count && a < kMaxSupportPoints; ++a)
+        records.arms[i * kMaxSupportPoints + a] = f4(horizontal(xyz(arms[k * kMaxSupportPoints + a])), 0.0f);
+    }
     b.vel[i] = F4{};
     b.ang[i] = F4{};
     b.flags[i] = static_cast<std::uint8_t>(b.flags[i] | kFlagAsleep);

@@ -13,6 +13,7 @@
 
 #include "colouring.hpp"
 #include "load_stages.hpp"
+#include "sleeper_load_stages.hpp"
 #include "oriented_stages.hpp"
 #include "pipeline_base.hpp"
 #include "stages.hpp"
@@ -109,6 +110,16 @@ class Pipeline final : public PipelineBase {
       p_world_.resize(n + 1);
       p_pairs_.resize(n + 1);
       turn_slot_.resize(n + 1);
+      if (s.fx.sleep) {  // eq 118's records and scratch
+        for (auto* l : {&sl_parent_, &sl_count_, &sl_flag_, &sl_scan_, &sl_begin_, &sl_end_, &sl_child_[0],
+                        &sl_child_[1], &sl_head_, &sl_head_scan_, &sl_heads_, &sl_wake_})
+          l->resize(n + 1);
+        for (auto* l : {&sl_key_, &sl_keys_[0], &sl_keys_[1]}) l->resize(n + 1);
+        for (auto* l : {&sl_load_[0], &sl_load_[1]}) l->resize(n + 1);
+        sl_arms_.resize(static_cast<std::size_t>(kMaxSupportPoints) * n + 1);
+        be_.fill_int(sl_parent_.data(), kLoadNone, n + 1);
+        be_.fill_int(sl_count_.data(), 0, n + 1);
+      }
     }
     fx_ = s.fx;
     body_.pos = pos_.data(); body_.rot = rot_.data(); body_.aabb = aabb_.data(); body_.half = half_.data();
@@ -288,6 +299,7 @@ class Pipeline final : public PipelineBase {
   Buf<float> settle_limit_;  // eq 116, per body (ContactsK): eq 77 damps a relative speed up to this
   Buf<int> can_rest_;      // eqs 116-117, per body (ContactsK, LoadOverK): statics lets it rest
   Buf<int> load_parent_;   // eq 117, per body (ContactsK)
+  Buf<int> load_tips_[2];  // eq 117's tips: its sweeps, per body
   Buf<F4> load_[2];        // eq 117's sweeps, per body: the load's offset (xyz) and mass (w)
   Buf<F4> arms_;           // eq 117, per slot: the support points' lever arms (kMaxSupportPoints each)
   Buf<int> n_arms_, held_; // eq 117, per slot: how many arms; something holds it (eq 112)
@@ -318,6 +330,15 @@ class Pipeline final : public PipelineBase {
   Buf<int> ready_, sleep_sw_[2], wake_sw_[2];
   Buf<int> rest_count_, rest_body_;
   Buf<F4> rest_local_, rest_point_, rest_last_;
+  // eq 118 (sleeper_load_stages.hpp): per body the records; the pairs'
+  // flags, keys and children; the parents' ranges, heads and loads; per
+  // head whether it wakes; how many heads this frame.
+  Buf<int> sl_parent_, sl_count_, sl_flag_, sl_scan_, sl_begin_, sl_end_, sl_child_[2], sl_head_, sl_head_scan_,
+      sl_heads_, sl_wake_;
+  Buf<unsigned> sl_key_, sl_keys_[2];
+  Buf<F4> sl_arms_, sl_load_[2];
+  int sl_n_heads_ = 0;
+  SleepSupportArrays sleep_records() { return SleepSupportArrays{sl_parent_.data(), sl_count_.data(), sl_arms_.data()}; }
   RestArrays rests() {
     return RestArrays{rest_count_.data(), rest_body_.data(), rest_local_.data(), rest_point_.data(),
                       rest_last_.data()};
@@ -339,6 +360,50 @@ class Pipeline final : public PipelineBase {
       }
       if (read_int(scal_.data() + 3) == 0 || done >= limit) return cur;
     }
+  }
+  // eq 118 (stage 3, after eq 117): with an awake body on a sleeper, the
+  // sleepers' loads and whether each is over its recorded support points.
+  void sleeper_loads(int n_active, const F4* awake_loads) {
+    sl_n_heads_ = 0;
+    if (!fx_.sleep || n_ - n_static_ - n_active <= 0) return;
+    be_.fill_int(scal_.data() + 3, 0, 1);
+    be_.for_n(n_, SleeperChildK{body_, load_parent_.data(), sleep_records(), n_, sl_flag_.data(), sl_key_.data(),
+                                scal_.data() + 3});
+    if (read_int(scal_.data() + 3) == 0) return;
+    be_.exclusive_scan(sl_flag_.data(), sl_scan_.data(), n_);
+    const int m = read_int(sl_scan_.data() + n_);
+    be_.for_n(n_, SleeperPairsK{sl_flag_.data(), sl_scan_.data(), sl_key_.data(), sl_keys_[0].data(), sl_child_[0].data()});
+    int bits = 1;
+    while (bits < 31 && (1 << bits) <= n_) ++bits;
+    const int s = be_.sort_pairs(sl_keys_[0].data(), sl_child_[0].data(), sl_keys_[1].data(), sl_child_[1].data(), m,
+                                 bits);
+    be_.fill_int(sl_begin_.data(), -1, static_cast<std::size_t>(n_) + 1);
+    be_.for_n(m, SleeperRangeK{sl_keys_[s].data(), m, sl_begin_.data(), sl_end_.data(), sl_head_.data()});
+    be_.exclusive_scan(sl_head_.data(), sl_head_scan_.data(), m);
+    const int heads = read_int(sl_head_scan_.data() + m);
+    be_.for_n(m, SleeperHeadsK{sl_keys_[s].data(), sl_head_.data(), sl_head_scan_.data(), sl_heads_.data()});
+    be_.fill_zero(sl_load_[0].data(), static_cast<std::size_t>(n_) + 1);
+    const int r = sweep_until_fixed(heads + 2, [&](int in, int out, int* changed) {
+      be_.for_n(heads, SleeperLoadK{sl_heads_.data(), body_, sl_keys_[s].data(), sl_child_[s].data(), sl_begin_.data(),
+                                    sl_end_.data(), awake_loads, sl_load_[in].data(), sl_load_[out].data(), changed});
+    });
+    be_.for_n(heads, SleeperTestK{sl_heads_.data(), sleep_records(), sl_load_[r].data(), sl_wake_.data()});
+    sl_n_heads_ = heads;
+  }
+  // eq 118, end of stage 9: the sleepers found beyond their support wake and
+  // join the awake list (list_[cur_], after its `n_awake`); returns how many.
+  int wake_loaded(int n_awake) {
+    if (sl_n_heads_ == 0) return 0;
+    be_.fill_int(scal_.data(), 0, 1);
+    be_.for_n(sl_n_heads_, SleeperWakeK{sl_heads_.data(), sl_wake_.data(), body_, rests(), woken_.data(), scal_.data()});
+    const int n_woken = read_int(scal_.data());
+    sl_n_heads_ = 0;
+    if (n_woken == 0) return 0;
+    be_.sort_ints(woken_.data(), woken_tmp_.data(), n_woken);
+    be_.for_n(n_woken, CopyIntsK{woken_.data(), list_[cur_].data() + n_awake});
+    counters_.wakes += static_cast<std::uint64_t>(n_woken);
+    frozen_dirty_ = true;
+    return n_woken;
   }
   bool frozen_dirty_ = true;
   bool coloured_ = false;  // this frame's body-body contacts are coloured
@@ -528,6 +593,15 @@ void Pipeline<B>::step() {
     });
     be_.for_n(n_active, LoadOverK{active, body_, sc_, nl, load_parent_.data(), support_idx_.data(), load_[r].data(),
                                   arms_.data(), n_arms_.data(), held_.data(), over_support_.data(), can_rest_.data()});
+    for (auto& buf : load_tips_) buf.resize(static_cast<std::size_t>(n_) + 1);
+    be_.fill_int(load_tips_[0].data(), 0, static_cast<std::size_t>(n_) + 1);
+    const int t = sweep_until_fixed(n_active + 2, [&](int in, int out, int* changed) {
+      be_.for_n(n_active, LoadTipsK{active, body_, nl, load_parent_.data(), over_support_.data(),
+                                    support_idx_.data(), load_tips_[in].data(), load_tips_[out].data(), changed, nullptr});
+    });
+    be_.for_n(n_active, LoadTipsK{active, body_, nl, load_parent_.data(), over_support_.data(), support_idx_.data(), load_tips_[t].data(),
+                                  load_tips_[1 - t].data(), nullptr, can_rest_.data()});
+    sleeper_loads(n_active, load_[r].data());  // eq 118
   }
   // eq 112's chain: a body riding on a body that tips tips too (sweeps).
   const int* over = over_support_.data();
@@ -664,8 +738,13 @@ void Pipeline<B>::step() {
         be_.for_n(n_active, SleepSweepK{active, body_, sc_, nl, pairs, slot_of_[par].data(), ready_.data(),
                                         sleep_sw_[in].data(), sleep_sw_[out].data(), changed});
       });
-      be_.for_n(n_active, SleepApplyK{active, body_, sc_, nl, pairs, sleep_sw_[r].data(), leaning_.data(), rests(),
-                                      grow_.data(), frame_, keep_.data()});
+      SleepApplyK apply{active, body_, sc_, nl, pairs, sleep_sw_[r].data(), leaning_.data(), rests(),
+                        grow_.data(), frame_, keep_.data(), nullptr, nullptr, nullptr, {}};
+      apply.load_parent = load_parent_.data();  // eq 118's records
+      apply.arms = arms_.data();
+      apply.n_arms = n_arms_.data();
+      apply.records = sleep_records();
+      be_.for_n(n_active, apply);
     }
     be_.exclusive_scan(keep_.data(), keep_scan_.data(), n_active);
     be_.for_n(n_active, ScatterK{active, keep_.data(), keep_scan_.data(), list_[1 - cur_].data()});
@@ -678,6 +757,7 @@ void Pipeline<B>::step() {
     new_awake = host[0];
     error = host[1];
     cur_ = 1 - cur_;
+    new_awake += wake_loaded(new_awake);  // eq 118
     counters_.pairs_tested = ctr[kCPairsTested];
     counters_.ground_contacts = ctr[kCGroundContacts];
     counters_.sdf_contacts = ctr[kCSdfContacts];

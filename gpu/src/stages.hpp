@@ -790,7 +790,7 @@ struct ContactsK {
     float support_mu = 0.0f;               // eq 116: the first support contact's friction (eq 58)
     int parent = kLoadNone;                // eq 117: fold_load_parent over the support contacts
     // v_n: the contact's closing speed (contact_closing_speed, the lower body first).
-    // mu2: the other side's friction; movable: the other side is an awake body (eq 117).
+    // mu2: the other side's friction; movable: the other side is a dynamic body, awake or asleep (eqs 117, 118).
     auto add_support = [&](int who, const Vec3<float>& n, float penetration, const Vec3<float>& point, float v_n,
                            float mu2, bool movable) {
       support_sum += n * support_weight(penetration, fade);  // eq 98
@@ -917,7 +917,7 @@ struct ContactsK {
             add_support(j, n_i, mf.penetration[c], mf.point[c],
                         lower ? contact_closing_speed(v0, w0, p, other0.v, other0.w, pj, mf.point[c], mf.n)
                               : contact_closing_speed(other0.v, other0.w, pj, v0, w0, p, mf.point[c], mf.n),
-                        mu_o, j_awake);
+                        mu_o, ro(b.pos + j).w != 0.0f);
           const Vec3<float> r1 = mf.point[c] - (lower ? p : pj), r2 = mf.point[c] - (lower ? pj : p);
           ContactState<float> cs =
               prepare_contact(pick(lower, self0, other0), r1, pick(lower, other0, self0), r2, mf.n,
@@ -950,7 +950,7 @@ struct ContactsK {
         add_support(j, n_i, pc.penetration, pc.point,
                     lower ? contact_closing_speed(v0, w0, p, other0.v, other0.w, pj, pc.point, pc.n)
                           : contact_closing_speed(other0.v, other0.w, pj, v0, w0, p, pc.point, pc.n),
-                    ro(b.inert + j).w, j_awake);
+                    ro(b.inert + j).w, ro(b.pos + j).w != 0.0f);
       const Vec3<float> r1 = pc.point - (lower ? p : pj), r2 = pc.point - (lower ? pj : p);
       const float e_o = ro(b.half + j).w, mu_o = ro(b.inert + j).w;
       // Body 1 is the lower index (one call for either order: the threads of a

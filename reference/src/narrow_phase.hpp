@@ -14,6 +14,7 @@ namespace lockstep {
 template <class T>
 void World<T>::narrow_phase() {
   contacts_.clear();
+  std::fill(wake_load_.begin(), wake_load_.end(), 0);
   std::vector<Contact<T>>& pair_contacts = pair_contacts_;
   pair_contacts.clear();
   const T half_tol = P_.contact_tolerance * Num<T>::from_double(0.5);
@@ -161,7 +162,8 @@ void World<T>::narrow_phase() {
   // holds it as one it touches), how many, and whether it also touches something (within slop)
   // that is not a support: a neighbour beside it, a body above it.
   support_arms_.resize(bodies_.size());
-  std::vector<int> n_arms(bodies_.size(), 0);
+  n_arms_.assign(bodies_.size(), 0);
+  std::vector<int>& n_arms = n_arms_;
   std::vector<char> loaded(bodies_.size(), 0);
   auto add_support = [&](int body, std::size_t ci, const Vec3<T>& n, const T& penetration) {
     const auto i = static_cast<std::size_t>(body);
@@ -237,59 +239,63 @@ void World<T>::narrow_phase() {
     settle_limit_[i] = settle_limit(holds, oriented && loaded[i] == 0, g, support_n_[i], mu, P_);
   }
   if (!oriented) return;
-  // eq 117: load parents (the one awake body below that every support
-  // contact touches), then each load from the top down (stage 6's order
-  // reversed: children first), its children in ascending index; a body whose
-  // load's centre is not over its support tips with its load: it does not
-  // settle and cannot rest, unless something holds it (eq 112).
+  // eq 117: load parents (the one dynamic body below that every support
+  // contact touches; eq 117 reads it when that body is awake, eq 118 when it
+  // sleeps), then each load from the top down (stage 6's order reversed:
+  // children first), its children in ascending index; a body whose load's
+  // centre is not over its support tips with its load: it does not settle
+  // and cannot rest, unless something holds it (eq 112).
   load_parent_.assign(bodies_.size(), kLoadNone);
   for (const Contact<T>& c : contacts_) {
     if (!(c.penetration > -P_.slop)) continue;
     if (c.n.y >= P_.support_normal_min) {
-      const bool movable = c.b >= 0 && bodies_[static_cast<std::size_t>(c.b)].awake();
+      const bool movable = c.b >= 0 && !bodies_[static_cast<std::size_t>(c.b)].is_static;
       int& s = load_parent_[static_cast<std::size_t>(c.a)];
       s = fold_load_parent(s, movable ? c.b : kLoadMany);
     }
     if (c.b >= 0 && -c.n.y >= P_.support_normal_min) {
       int& s = load_parent_[static_cast<std::size_t>(c.b)];
-      s = fold_load_parent(s, bodies_[static_cast<std::size_t>(c.a)].awake() ? c.a : kLoadMany);
+      s = fold_load_parent(s, !bodies_[static_cast<std::size_t>(c.a)].is_static ? c.a : kLoadMany);
     }
   }
-  load_children_.clear();
-  for (const int idx : settle_order_) {
-    const auto i = static_cast<std::size_t>(idx);
-    const int s = load_parent_[i];
-    if (s >= 0 && settles_before(bodies_[static_cast<std::size_t>(s)].p.y, s, bodies_[i].p.y, idx))
-      load_children_.emplace_back(s, idx);
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {  // a load parent settles before its child (no cycle)
+    int& s = load_parent_[i];
+    if (s >= 0 && !settles_before(bodies_[static_cast<std::size_t>(s)].p.y, s, bodies_[i].p.y, static_cast<int>(i)))
+      s = kLoadNone;
   }
-  if (!load_children_.empty()) {
+  load_children_.clear();
+  sleeper_children_.clear();
+  for (const int idx : settle_order_) {
+    const int s = sleeper_load_parent(true, load_parent_[static_cast<std::size_t>(idx)], kLoadNone);
+    if (s < 0) continue;
+    (bodies_[static_cast<std::size_t>(s)].asleep ? sleeper_children_ : load_children_).emplace_back(s, idx);
+  }
+  if (!load_children_.empty() || !sleeper_children_.empty()) {
     std::sort(load_children_.begin(), load_children_.end());
     load_mass_.resize(bodies_.size());
     load_offset_.resize(bodies_.size());
-    const T cap = Num<T>::from_double(kLoadMassCap), one = Num<T>::from_int(1);
+    load_tips_.resize(bodies_.size());
+    const T one = Num<T>::from_int(1);
     for (auto it = settle_order_.rbegin(); it != settle_order_.rend(); ++it) {
       const int idx = *it;
       const auto i = static_cast<std::size_t>(idx);
-      const auto first = std::lower_bound(load_children_.begin(), load_children_.end(), std::pair<int, int>{idx, -1});
-      auto last = first;
-      T mass = one / bodies_[i].inv_mass;
-      for (; last != load_children_.end() && last->first == idx; ++last)
-        mass = load_mass_add(mass, load_mass_[static_cast<std::size_t>(last->second)], cap);
-      Vec3<T> offset{};
-      for (auto c = first; c != last; ++c) {
-        const auto j = static_cast<std::size_t>(c->second);
-        offset = load_offset_add(offset, load_mass_[j], mass, bodies_[j].p, load_offset_[j], bodies_[i].p);
-      }
-      load_mass_[i] = mass;
-      load_offset_[i] = offset;
+      const bool carries = form_load(idx, load_children_);
       check_faults(idx, "load (eq 117)");
-      if (first == last || loaded[i] != 0) continue;  // no load children; or held
-      if (load_over_support(support_arms_[i].data(), n_arms[i], offset, Vec3<T>{T{}, one, T{}},
-                            length(bodies_[i].w) < P_.sleep_angular))
-        continue;
-      over_support_[i] = 0;
-      can_rest_[i] = 0;
+      bool child_tips = false;
+      for (auto c = std::lower_bound(load_children_.begin(), load_children_.end(), std::pair<int, int>{idx, -1});
+           c != load_children_.end() && c->first == idx; ++c)
+        child_tips = child_tips || load_tips_[static_cast<std::size_t>(c->second)] != 0;
+      // no load children, or held: eq 112's answer stands
+      if (carries && loaded[i] == 0 &&
+          !load_over_support(support_arms_[i].data(), n_arms[i], load_offset_[i], Vec3<T>{T{}, one, T{}},
+                             length(bodies_[i].w) < P_.sleep_angular)) {
+        over_support_[i] = 0;
+        can_rest_[i] = 0;
+      }
+      if (!load_rests(child_tips)) can_rest_[i] = 0;
+      load_tips_[i] = load_tips(over_support_[i] != 0, child_tips) ? 1 : 0;
     }
+    if (!sleeper_children_.empty()) sleeper_loads();
   }
   // eq 112's chain, in that order: a body riding on a body that tips tips too.
   for (const int idx : settle_order_) {
@@ -300,6 +306,61 @@ void World<T>::narrow_phase() {
     const auto si = static_cast<std::size_t>(s);
     const bool before = settles_before(bodies_[si].p.y, s, bodies_[i].p.y, idx);
     over_support_[i] = over_with_support(over_support_[i] != 0, before, over_support_[si] != 0) ? 1 : 0;
+  }
+}
+
+// eq 117: body idx's load (load_mass_, load_offset_) from its children in
+// `children` ((parent, child), sorted), whose loads are formed; whether it
+// has any.
+template <class T>
+bool World<T>::form_load(int idx, const std::vector<std::pair<int, int>>& children) {
+  const auto i = static_cast<std::size_t>(idx);
+  const T cap = Num<T>::from_double(kLoadMassCap);
+  const auto first = std::lower_bound(children.begin(), children.end(), std::pair<int, int>{idx, -1});
+  auto last = first;
+  T mass = Num<T>::from_int(1) / bodies_[i].inv_mass;
+  for (; last != children.end() && last->first == idx; ++last)
+    mass = load_mass_add(mass, load_mass_[static_cast<std::size_t>(last->second)], cap);
+  Vec3<T> offset{};
+  for (auto c = first; c != last; ++c) {
+    const auto j = static_cast<std::size_t>(c->second);
+    offset = load_offset_add(offset, load_mass_[j], mass, bodies_[j].p, load_offset_[j], bodies_[i].p);
+  }
+  load_mass_[i] = mass;
+  load_offset_[i] = offset;
+  return first != last;
+}
+
+// eq 118: with an awake body resting on a sleeper (sleeper_children_ holds
+// those), the sleepers' loads: their sleeping children join, each sleeper's
+// load is formed from the top down (descending stage 6 order), and a sleeper
+// whose load's centre is not over its recorded support points wakes at the
+// end of the frame (wake_loaded).
+template <class T>
+void World<T>::sleeper_loads() {
+  auto before = [&](int a, int b) {
+    return settles_before(bodies_[static_cast<std::size_t>(a)].p.y, a, bodies_[static_cast<std::size_t>(b)].p.y, b);
+  };
+  for (std::size_t j = 0; j < bodies_.size(); ++j) {
+    if (!bodies_[j].asleep) continue;
+    const int s = sleeper_load_parent(false, kLoadNone, sleep_support_[j].parent);
+    if (s >= 0 && bodies_[static_cast<std::size_t>(s)].asleep && before(s, static_cast<int>(j)))
+      sleeper_children_.emplace_back(s, static_cast<int>(j));
+  }
+  std::sort(sleeper_children_.begin(), sleeper_children_.end());
+  sleeper_loads_.clear();
+  for (const auto& [s, c] : sleeper_children_) {
+    sleeper_loads_.push_back(s);
+    if (bodies_[static_cast<std::size_t>(c)].asleep) sleeper_loads_.push_back(c);
+  }
+  std::sort(sleeper_loads_.begin(), sleeper_loads_.end(), [&](int a, int b) { return before(b, a); });
+  sleeper_loads_.erase(std::unique(sleeper_loads_.begin(), sleeper_loads_.end()), sleeper_loads_.end());
+  for (const int idx : sleeper_loads_) {
+    const bool carries = form_load(idx, sleeper_children_);
+    check_faults(idx, "sleeper load (eq 118)");
+    const SleepSupport& rec = sleep_support_[static_cast<std::size_t>(idx)];
+    if (carries && !sleeper_load_over_support(rec.arms.data(), rec.count, load_offset_[static_cast<std::size_t>(idx)]))
+      wake_load_[static_cast<std::size_t>(idx)] = 1;
   }
 }
 

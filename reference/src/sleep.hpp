@@ -84,6 +84,27 @@ void World<T>::record_supports(std::size_t i) {
     const Vec3<T> at = support_point(s.p, s.R, local);
     rests.push_back({other, local, at, at});
   }
+  // eq 118: its load parent and support points as it falls asleep (the
+  // oriented-box model: the source's AABB model forms no loads).
+  if (scene_.pair_contacts != PairModel::kOrientedBox) return;
+  SleepSupport& rec = sleep_support_[i];
+  rec.parent = load_parent_[i];
+  rec.count = n_arms_[i];
+  for (int k = 0; k < rec.count && k < kMaxSupportPoints; ++k)
+    rec.arms[static_cast<std::size_t>(k)] = horizontal(support_arms_[i][static_cast<std::size_t>(k)]);
+}
+
+// eq 118: the sleepers whose load left their support this frame wake, in
+// index order, as eq 81 wakes a body.
+template <class T>
+void World<T>::wake_loaded() {
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    if (wake_load_[i] == 0 || !bodies_[i].asleep) continue;
+    bodies_[i].asleep = false;
+    bodies_[i].sleep_counter = 0;
+    rests_[i].clear();
+    ++counters_.wakes;
+  }
 }
 
 template <class T>
@@ -117,7 +138,10 @@ void World<T>::update_sleep() {
   // its support contacts, Part 4) is asleep, those put to sleep earlier in
   // this pass included. A still column falls asleep at once, from the bottom
   // up, and no sleeper is left on a moving support.
-  if (ready.empty()) return;
+  if (ready.empty()) {
+    wake_loaded();
+    return;
+  }
   std::sort(ready.begin(), ready.end(), [&](int a, int b) {
     const T& ya = bodies_[static_cast<std::size_t>(a)].p.y;
     const T& yb = bodies_[static_cast<std::size_t>(b)].p.y;
@@ -145,6 +169,7 @@ void World<T>::update_sleep() {
     b.sleep_frame = frame_;
     record_supports(i);
   }
+  wake_loaded();
 }
 
 template <class T>

@@ -57,7 +57,8 @@ void World<T>::save_state(std::vector<std::uint8_t>& out) const {
   constexpr std::size_t s = C::kMaxBytes, v = snap::kMaxIntVarint;
   std::size_t records = 0;
   for (const std::vector<Rest>& r : rests_) records += r.size();
-  const std::size_t bound = kSnapshotHeaderSize + scene_section_.size() + bodies_.size() * (1 + 13 * s + 2 * v) +
+  const std::size_t bound = kSnapshotHeaderSize + scene_section_.size() +
+                            bodies_.size() * (1 + 13 * s + 2 * v + 2 * v + 2 * kMaxSupportPoints * s) +
                             records * (v + 9 * s) + v + warm_.size() * (3 * v + s) + 16 * v + kSnapshotChecksumSize;
   out.clear();
   out.reserve(bound);
@@ -74,8 +75,10 @@ void World<T>::save_state(std::vector<std::uint8_t>& out) const {
     const Body<T>& b = bodies_[i];
     const std::vector<Rest>& rests = rests_[i];
     const bool has_v = !zero(b.v), has_w = !zero(b.w), has_sleep_frame = b.sleep_frame >= 0;
+    const SleepSupport& sup = sleep_support_[i];
+    const bool has_support = b.asleep && (sup.parent >= 0 || sup.count > 0);  // eq 118's record
     c.u8(static_cast<std::uint8_t>((b.asleep ? 1 : 0) | (has_v ? 2 : 0) | (has_w ? 4 : 0) | (has_sleep_frame ? 8 : 0) |
-                                   (rests.size() << 4)));
+                                   (rests.size() << 4) | (has_support ? 0x80 : 0)));
     vec(b.p);
     C::put(c, b.q.w); C::put(c, b.q.x); C::put(c, b.q.y); C::put(c, b.q.z);
     if (has_v) vec(b.v);
@@ -90,6 +93,15 @@ void World<T>::save_state(std::vector<std::uint8_t>& out) const {
       vec(r.local);
       vec(r.rest);
       if (moved) vec(r.last);
+    }
+    if (has_support) {  // eq 118: varint 0 (no parent) or zigzag(parent - i) + 1; the count; x, z of each arm
+      const std::int64_t d = static_cast<std::int64_t>(sup.parent) - static_cast<std::int64_t>(i);
+      c.varint(sup.parent < 0 ? 0 : ((static_cast<std::uint64_t>(d) << 1) ^ static_cast<std::uint64_t>(d < 0 ? -1 : 0)) + 1);
+      c.varint(static_cast<std::uint64_t>(sup.count));
+      for (int k = 0; k < sup.count && k < kMaxSupportPoints; ++k) {
+        C::put(c, sup.arms[static_cast<std::size_t>(k)].x);
+        C::put(c, sup.arms[static_cast<std::size_t>(k)].z);
+      }
     }
   }
   c.varint(warm_.size());

@@ -27,10 +27,11 @@ void World<T>::read_moving_state(snap::Reader& r, std::uint32_t frame, bool deri
     for (; i < n; ++i) {
       Body<T>& b = bodies_[i];
       const std::uint8_t flags = r.u8("flags");
-      const std::size_t records = flags >> 4;
-      if ((flags & 0x80) != 0 || records > static_cast<std::size_t>(kMaxRests))
-        refuse("flags", "byte " + std::to_string(flags) + " has reserved bits set or more than " + std::to_string(kMaxRests) +
+      const std::size_t records = (flags >> 4) & 7;
+      if (records > static_cast<std::size_t>(kMaxRests))
+        refuse("flags", "byte " + std::to_string(flags) + " names more than " + std::to_string(kMaxRests) +
                             " support records");
+      if ((flags & 0x80) != 0 && (flags & 1) == 0) refuse("flags", "an eq 118 record on a body that is not asleep");
       if (b.is_static && (flags & 0x0f) != 0) refuse("flags", "a static body cannot be asleep, move or have slept");
       if ((flags & 1) != 0 && !scene_.effects.sleep) refuse("flags", "asleep in a scene without the sleep effect");
       b.asleep = (flags & 1) != 0;
@@ -76,6 +77,32 @@ void World<T>::read_moving_state(snap::Reader& r, std::uint32_t frame, bool deri
         if (!within(rec.local, snap::kMaxCoordinate) || !within(rec.rest, snap::kMaxCoordinate) ||
             !within(rec.last, snap::kMaxCoordinate))
           refuse("rests", "a support point is not finite or not within |x| < 32768 m");
+      }
+      SleepSupport& sup = sleep_support_[i];
+      sup = SleepSupport{};
+      if ((flags & 0x80) != 0) {  // eq 118's record
+        const std::uint64_t key = r.varint("support.parent");
+        if (key != 0) {
+          const std::uint64_t zz = key - 1;
+          const std::int64_t d = static_cast<std::int64_t>(zz >> 1) ^ -static_cast<std::int64_t>(zz & 1);
+          const std::int64_t other = static_cast<std::int64_t>(i) + d;
+          if (other < 0 || other >= static_cast<std::int64_t>(n) || other == static_cast<std::int64_t>(i) ||
+              bodies_[static_cast<std::size_t>(other)].is_static)
+            refuse("support.parent", "load parent " + std::to_string(other) + " is not another dynamic body of the " +
+                                         std::to_string(n));
+          sup.parent = static_cast<int>(other);
+        }
+        const std::uint64_t count = r.varint("support.count");
+        if (count > static_cast<std::uint64_t>(kMaxSupportPoints) + 1)
+          refuse("support.count", std::to_string(count) + " support points; at most " +
+                                      std::to_string(kMaxSupportPoints + 1) + " (many)");
+        sup.count = static_cast<int>(count);
+        for (int k = 0; k < sup.count && k < kMaxSupportPoints; ++k) {
+          Vec3<T>& arm = sup.arms[static_cast<std::size_t>(k)];
+          arm.x = C::get(r, "support.arms");
+          arm.z = C::get(r, "support.arms");
+          if (!within(arm, snap::kMaxCoordinate)) refuse("support.arms", "a lever arm is not finite or not within |x| < 32768 m");
+        }
       }
       // R and the AABB are functions of q: recomputed unless q is unchanged.
       const bool same_q = derived_valid && C::same_bits(q.w, b.q.w) && C::same_bits(q.x, b.q.x) &&

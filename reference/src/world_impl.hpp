@@ -86,6 +86,8 @@ World<T>::World(const Scene& scene)
   leaning_.assign(bodies_.size(), 0);
   settle_limit_.assign(bodies_.size(), T{});
   can_rest_.assign(bodies_.size(), 1);
+  sleep_support_.assign(bodies_.size(), SleepSupport{});
+  wake_load_.assign(bodies_.size(), 0);
 }
 
 template <class T>
@@ -114,6 +116,8 @@ World<T>& World<T>::operator=(const World& other) {
   leaning_ = other.leaning_;
   settle_limit_ = other.settle_limit_;
   can_rest_ = other.can_rest_;
+  sleep_support_ = other.sleep_support_;
+  wake_load_ = other.wake_load_;
   ground_y_ = other.ground_y_;
   ground_e_ = other.ground_e_;
   ground_mu_ = other.ground_mu_;

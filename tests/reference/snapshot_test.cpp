@@ -4,6 +4,7 @@
 // the same snapshot bytes (so the warm-start cache, eq 108's records, the
 // sleep counters and the stage counters agree too). Bad snapshots (truncated,
 // corrupt, foreign) are refused with a SnapshotError naming what is wrong.
+#include <algorithm>
 #include <gtest/gtest.h>
 #include <rapidcheck.h>
 #include <rapidcheck/gtest.h>
@@ -273,10 +274,14 @@ TEST(SnapshotRefusal, ForeignSnapshotsNameWhatIsWrong) {
   World<double> dw(*builtin_scene("stack5"));
   EXPECT_THROW(dw.restore_state(good), SnapshotError);
 
-  std::vector<std::uint8_t> v2 = good;
-  v2[8] = 2;
-  reseal(v2);
-  EXPECT_NE(refusal<Q16>(v2).find("format version 2"), std::string::npos) << refusal<Q16>(v2);
+  std::vector<std::uint8_t> v3 = good;
+  v3[8] = 3;
+  reseal(v3);
+  EXPECT_NE(refusal<Q16>(v3).find("format version 3"), std::string::npos) << refusal<Q16>(v3);
+  std::vector<std::uint8_t> v1 = good;  // the format before eq 118's records
+  v1[8] = 1;
+  reseal(v1);
+  EXPECT_NE(refusal<Q16>(v1).find("format version 1; this build reads version 2"), std::string::npos) << refusal<Q16>(v1);
 
   std::vector<std::uint8_t> magic = good;
   magic[0] = '{';
@@ -309,10 +314,11 @@ TEST(SnapshotRefusal, CorruptFieldsBehindAGoodChecksum) {
   reseal(q);
   EXPECT_NE(refusal<Q16>(q).find("body 0: q"), std::string::npos) << refusal<Q16>(q);
 
-  std::vector<std::uint8_t> flags = good;
-  flags[body0] |= 0x80;
+  std::vector<std::uint8_t> flags = good;  // eq 118's record on a body that is not asleep
+  flags[body0] = static_cast<std::uint8_t>((flags[body0] & ~1) | 0x80);
   reseal(flags);
-  EXPECT_NE(refusal<Q16>(flags).find("reserved bits"), std::string::npos) << refusal<Q16>(flags);
+  EXPECT_NE(refusal<Q16>(flags).find("eq 118 record on a body that is not asleep"), std::string::npos)
+      << refusal<Q16>(flags);
 
   // A double snapshot with a NaN position.
   World<double> dw(scene);
@@ -331,7 +337,7 @@ TEST(Snapshot, HeaderLayout) {
   for (int f = 0; f < 3; ++f) w.step();
   const std::vector<std::uint8_t> b = w.save_state();
   EXPECT_EQ(std::string(b.begin(), b.begin() + 8), "LKSTSNAP");
-  EXPECT_EQ(b[8] | b[9] << 8, 1);
+  EXPECT_EQ(b[8] | b[9] << 8, 2);
   EXPECT_EQ(b[10], 1);
   EXPECT_EQ(b[12], 5);
   std::uint64_t hash = 0, size = 0;
@@ -366,7 +372,8 @@ TEST(SnapshotSize, SettledPile1000WithinBudget) {
   ASSERT_TRUE(w.all_asleep());
   const std::vector<std::uint8_t> b = w.save_state();
   const std::size_t section = snap::encode_scene_section(scene).size();
-  std::size_t at = kSnapshotHeaderSize + section, moving = 0, records = 0, record_bytes = 0;
+  std::size_t at = kSnapshotHeaderSize + section, moving = 0, records = 0, record_bytes = 0, supports = 0,
+              support_bytes = 0;
   for (std::size_t i = 0; i < w.bodies().size(); ++i) {
     const std::size_t from = at;
     const std::uint8_t flags = b.at(at);
@@ -375,22 +382,31 @@ TEST(SnapshotSize, SettledPile1000WithinBudget) {
     if (flags & 8) varint_at(b, at);
     moving += at - from;
     const std::size_t rests_from = at;
-    for (int r = 0; r < (flags >> 4); ++r) {
+    for (int r = 0; r < ((flags >> 4) & 7); ++r) {
       const std::size_t key_at = at;
       varint_at(b, at);
       at += 24 + ((b.at(key_at) & 1) ? 12 : 0);
       ++records;
     }
     record_bytes += at - rests_from;
+    if (flags & 0x80) {  // eq 118's record: parent, count, x and z of each arm
+      const std::size_t support_from = at;
+      varint_at(b, at);
+      const std::size_t count_at = at;
+      varint_at(b, at);
+      at += 8 * std::min<std::size_t>(b.at(count_at), 16);
+      ++supports;
+      support_bytes += at - support_from;
+    }
   }
   const std::size_t warm_and_counters = b.size() - kSnapshotChecksumSize - at;
   const double n = static_cast<double>(w.bodies().size());
   std::printf("pile1000 (fixed, frame %d, all asleep): %zu bytes = %.1f B/body: header %zu, scene section %zu, "
-              "moving state %zu (%.1f B/body), eq 108 records %zu in %zu bytes (%.1f B/body), warm cache and counters %zu, "
-              "checksum %zu\n",
+              "moving state %zu (%.1f B/body), eq 108 records %zu in %zu bytes (%.1f B/body), eq 118 records %zu in "
+              "%zu bytes (%.1f B/body), warm cache and counters %zu, checksum %zu\n",
               w.frame(), b.size(), static_cast<double>(b.size()) / n, kSnapshotHeaderSize, section, moving,
-              static_cast<double>(moving) / n, records, record_bytes, static_cast<double>(record_bytes) / n,
-              warm_and_counters, kSnapshotChecksumSize);
+              static_cast<double>(moving) / n, records, record_bytes, static_cast<double>(record_bytes) / n, supports,
+              support_bytes, static_cast<double>(support_bytes) / n, warm_and_counters, kSnapshotChecksumSize);
   EXPECT_LE(static_cast<double>(moving) / n, 64.0);
   EXPECT_LE(static_cast<double>(b.size()) / n, 128.0);
   // Awake: the same pile at frame 60, still falling (velocities and the warm-start cache).

@@ -405,6 +405,26 @@ Json f_load_over_support(In in, const std::string& p) {
   return Json{{"over", load_over_support(r.data(), static_cast<int>(r.size()), vec_at(in, "offset", p), vec_at(in, "n", p),
                                          bool_at(in, "boundary_over", p))}};
 }
+// eq 117: whether a load tips, whether a body whose children's loads tip rests.
+Json f_load_tips(In in, const std::string& p) {
+  return Json{{"tips", load_tips(bool_at(in, "over", p), bool_at(in, "child_tips", p))}};
+}
+Json f_load_rests(In in, const std::string& p) { return Json{{"rests", load_rests(bool_at(in, "child_tips", p))}}; }
+// eq 118: a sleeper under a load.
+Json f_horizontal(In in, const std::string& p) { return Json{{"h", to_json(horizontal(vec_at(in, "v", p)))}}; }
+Json f_sleeper_load_parent(In in, const std::string& p) {
+  return Json{{"parent", sleeper_load_parent(bool_at(in, "awake", p), static_cast<int>(int_at(in, "load_parent", p)),
+                                             static_cast<int>(int_at(in, "recorded_parent", p)))}};
+}
+Json f_sleeper_load_over_support(In in, const std::string& p) {
+  const Json& rs = member(in, "arms", p);
+  if (!rs.is_array() || rs.size() > static_cast<std::size_t>(kMaxSupportPoints))
+    throw FormatError(p + ".arms: expected 0 to 16 lever arms");
+  std::vector<V> r;
+  for (std::size_t k = 0; k < rs.size(); ++k)
+    r.push_back(vec_at(Json{{"r", rs[k]}}, "r", p + ".arms[" + std::to_string(k) + "]"));
+  return Json{{"over", sleeper_load_over_support(r.data(), static_cast<int>(int_at(in, "count", p)), vec_at(in, "offset", p))}};
+}
 // eq 115: whether a supported body leans on what holds it beyond its support.
 Json f_leans(In in, const std::string& p) {
   return Json{{"leans", leans(bool_at(in, "supported", p), bool_at(in, "held", p), bool_at(in, "over_contacts", p))}};
@@ -616,6 +636,14 @@ const std::vector<Formula>& formulas() {
       {"load_offset_add", {117}, "acc + ((child_p - p) + child_offset) * (child_mass / mass)", f_load_offset_add},
       {"load_over_support", {117}, "over_support(r[k] - offset for each k, n, boundary_over); 0 or more than 16 arms: true",
        f_load_over_support},
+      {"load_tips", {117}, "not over or child_tips", f_load_tips},
+      {"load_rests", {117}, "not child_tips", f_load_rests},
+      {"horizontal", {118}, "(v.x, 0, v.z)", f_horizontal},
+      {"sleeper_load_parent", {118}, "load_parent if awake, else recorded_parent", f_sleeper_load_parent},
+      {"sleeper_load_over_support", {118},
+       "load_over_support(arms (their first min(count, 16)), count, horizontal(offset), (0, 1, 0), true); count 0 or "
+       "more than 16: true",
+       f_sleeper_load_over_support},
       {"visit_converged", {113}, "true iff |v_k - v0_k| < eps and |w_k - w0_k| < eps for every component k",
        f_visit_converged},
       {"combined_restitution", {50}, "min(e1, e2)", f_combined_restitution},
@@ -972,6 +1000,30 @@ std::vector<Case> cases_for(const std::string& fn, Rng& rng) {
       in = {{"supported", (k & 1) != 0}, {"held", (k & 2) != 0}, {"over_contacts", (k & 4) != 0}};
       add(in, "", {"Sweep"});
       continue;
+    } else if (fn == "load_tips") {
+      in = {{"over", (k & 1) != 0}, {"child_tips", (k & 2) != 0}};
+      add(in, "", {"Sweep"});
+      continue;
+    } else if (fn == "load_rests") {
+      in = {{"child_tips", (k & 1) != 0}};
+      add(in, "", {"Sweep"});
+      continue;
+    } else if (fn == "horizontal") {
+      in = {{"v", random_raw_vec(rng, -40, 40)}};
+    } else if (fn == "sleeper_load_parent") {
+      in = {{"awake", (k & 1) != 0}, {"load_parent", k % 3 == 0 ? -1 : (k % 3 == 1 ? -2 : k % 7)},
+            {"recorded_parent", k % 5 == 0 ? -1 : k % 11}};
+      add(in, "", {"Sweep"});
+      continue;
+    } else if (fn == "sleeper_load_over_support") {
+      // A sleeper's recorded bottom corners (horizontal parts) and a load's
+      // centre up to 1.2 half extents off its centre: often beyond the edge.
+      const V h{rng.q16(0.1, 1), rng.q16(0.1, 1), rng.q16(0.1, 1)};
+      Json r = Json::array();
+      const int count = 1 + k % 4;
+      for (int c = 0; c < count; ++c) r.push_back(to_json(V{c & 1 ? h.x : -h.x, Q16{}, c & 2 ? h.z : -h.z}));
+      const V offset{rng.q16(-1.2, 1.2) * h.x, rng.q16(0, 2), rng.q16(-1.2, 1.2) * h.z};
+      in = {{"arms", r}, {"count", count}, {"offset", to_json(offset)}};
     } else if (fn == "visit_converged") {
       // A side's velocities before and after: each component within about
       // converged_speed of its old value, some beyond it.
@@ -1210,6 +1262,18 @@ std::vector<Case> cases_for(const std::string& fn, Rng& rng) {
         "reaches the cap exactly", {"Edge"});
     add({{"acc", to_json(cap - Q16::from_int(2))}, {"m", to_json(Q16::from_int(2) + Q16::from_raw(1))}, {"cap", to_json(cap)}},
         "1 ulp beyond the cap: the cap", {"Edge"});
+  } else if (fn == "sleeper_load_over_support") {
+    const Q16 h = Q16::from_double(0.5);
+    Json square = Json::array();
+    for (int c = 0; c < 4; ++c) square.push_back(to_json(V{c & 1 ? h : -h, Q16{}, c & 2 ? h : -h}));
+    add({{"arms", square}, {"count", 4}, {"offset", to_json(V{h, Q16::from_int(1), Q16{}})}},
+        "the load's centre on the edge: over (a sleeper does not turn)", {"Edge"});
+    add({{"arms", square}, {"count", 4}, {"offset", to_json(V{h + Q16::from_raw(1), Q16{}, Q16{}})}},
+        "1 ulp beyond the edge: not over", {"Edge"});
+    add({{"arms", square}, {"count", 17}, {"offset", to_json(V{Q16::from_int(3), Q16{}, Q16{}})}},
+        "more than 16 points (many): over", {"Edge"});
+    add({{"arms", Json::array()}, {"count", 0}, {"offset", to_json(V{Q16::from_int(3), Q16{}, Q16{}})}},
+        "no points recorded: over", {"Edge"});
   } else if (fn == "support_impact") {
     add({{"penetration", to_json(-P.slop)}, {"v_n", to_json(-P.rest_speed - Q16::from_raw(1))}},
         "a gap of exactly slop is speculative; 1 ulp faster than rest_speed: an impact", {"Edge"});

@@ -300,6 +300,15 @@ LS_HD Vec3<T> load_offset_add(const Vec3<T>& acc, const T& child_mass, const T& 
 }
 inline constexpr double kLoadMassCap = 16384.0;
 
+// eq 117: a load tips when a body in it is not over its support (eq 112, or
+// its own load not over it): the body itself, or something in a load
+// child's load. A body whose load children's loads tip is not at rest (no
+// sleep candidate): what it carries is falling off it and its load is
+// changing (an overhang toppling off a column's top left the column's
+// lower cubes asleep under what remained, beyond their edge).
+LS_HD inline bool load_tips(bool over, bool child_tips) { return !over || child_tips; }
+LS_HD inline bool load_rests(bool child_tips) { return !child_tips; }
+
 // eq 117: whether a body's load is over its support: eq 112's test on its
 // support points taken from the load's centre p + D instead of p (lever arms
 // r_k - D), along up; `boundary_over` as eq 112. Without load children (D
@@ -311,6 +320,32 @@ LS_HD bool load_over_support(const Vec3<T>* r, int count, const Vec3<T>& offset,
   Vec3<T> shifted[kMaxSupportPoints];
   for (int k = 0; k < count; ++k) shifted[k] = r[k] - offset;
   return over_support(shifted, count, n, boundary_over);
+}
+
+// eq 118 (Part 4): a sleeper under a load. A body falling asleep (eq 80)
+// records its support points' lever arms as they were that frame (eq 112's,
+// at most kMaxSupportPoints; a count above it: many) and its load parent
+// (eq 117's, the sole dynamic body under it, asleep or awake). While it
+// sleeps, its load is itself, its awake load children (eq 117's load parent
+// is a sleeper) and its sleeping children (their recorded parent is it),
+// each with its own load, summed as eq 117 sums (children in ascending
+// index); a child counts only if its parent settles before it now (lower: no
+// cycle). When that load's centre is not over the recorded support points,
+// seen along up and from their horizontal parts (the sleeper has not moved
+// since it recorded them; a centre on the boundary counts as over: it does
+// not turn), the sleeper wakes at the end of the frame (stage 9) and tips
+// with its load. The parent a body has in this pass: awake, its load parent;
+// asleep, the one it recorded.
+template <class T>
+LS_HD Vec3<T> horizontal(const Vec3<T>& v) {
+  return Vec3<T>{v.x, T{}, v.z};
+}
+LS_HD inline int sleeper_load_parent(bool awake, int load_parent, int recorded_parent) {
+  return awake ? load_parent : recorded_parent;
+}
+template <class T>
+LS_HD bool sleeper_load_over_support(const Vec3<T>* arms, int count, const Vec3<T>& offset) {
+  return load_over_support(arms, count, horizontal(offset), Vec3<T>{T{}, Num<T>::from_int(1), T{}}, true);
 }
 
 // eq 77 (4.6): a supported body slower than settle_speed loses a fraction of its velocity.
