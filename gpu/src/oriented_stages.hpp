@@ -25,7 +25,7 @@ struct RestArrays {
 };
 inline constexpr int kMaxRests = 4;
 
-// eq 118's records, per body: written when it falls asleep (SleepApplyK).
+// eq 124's records, per body: written when it falls asleep (SleepApplyK).
 struct SleepSupportArrays {
   int* parent = nullptr;  // its load parent then (eq 117, kLoadNone: none)
   int* count = nullptr;   // its support points then (kMaxSupportPoints + 1: many)
@@ -399,7 +399,7 @@ struct SleepApplyK {
   float* grow;
   int frame;
   int* keep;
-  // eq 118: the load parents (per body) and support points (per slot,
+  // eq 124: the load parents (per body) and support points (per slot,
   // ContactsK) to record; records.parent null: none (the AABB model).
   const int* load_parent = nullptr;
   const F4* arms = nullptr;
@@ -408,7 +408,7 @@ struct SleepApplyK {
   LS_HD void operator()(int k) const {
     if (sleeps[k] == 0) return;
     const int i = list[k];
-    if (records.parent != nullptr) {  // eq 118
+    if (records.parent != nullptr) {  // eq 124
       records.parent[i] = load_parent[i];
       const int count = n_arms[k];
       records.count[i] = count;

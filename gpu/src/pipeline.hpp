@@ -110,7 +110,7 @@ class Pipeline final : public PipelineBase {
       p_world_.resize(n + 1);
       p_pairs_.resize(n + 1);
       turn_slot_.resize(n + 1);
-      if (s.fx.sleep) {  // eq 118's records and scratch
+      if (s.fx.sleep) {  // eq 124's records and scratch
         for (auto* l : {&sl_parent_, &sl_count_, &sl_flag_, &sl_scan_, &sl_begin_, &sl_end_, &sl_child_[0],
                         &sl_child_[1], &sl_head_, &sl_head_scan_, &sl_heads_, &sl_wake_})
           l->resize(n + 1);
@@ -330,7 +330,7 @@ class Pipeline final : public PipelineBase {
   Buf<int> ready_, sleep_sw_[2], wake_sw_[2];
   Buf<int> rest_count_, rest_body_;
   Buf<F4> rest_local_, rest_point_, rest_last_;
-  // eq 118 (sleeper_load_stages.hpp): per body the records; the pairs'
+  // eq 124 (sleeper_load_stages.hpp): per body the records; the pairs'
   // flags, keys and children; the parents' ranges, heads and loads; per
   // head whether it wakes; how many heads this frame.
   Buf<int> sl_parent_, sl_count_, sl_flag_, sl_scan_, sl_begin_, sl_end_, sl_child_[2], sl_head_, sl_head_scan_,
@@ -361,7 +361,7 @@ class Pipeline final : public PipelineBase {
       if (read_int(scal_.data() + 3) == 0 || done >= limit) return cur;
     }
   }
-  // eq 118 (stage 3, after eq 117): with an awake body on a sleeper, the
+  // eq 124 (stage 3, after eq 117): with an awake body on a sleeper, the
   // sleepers' loads and whether each is over its recorded support points.
   void sleeper_loads(int n_active, const F4* awake_loads) {
     sl_n_heads_ = 0;
@@ -390,7 +390,7 @@ class Pipeline final : public PipelineBase {
     be_.for_n(heads, SleeperTestK{sl_heads_.data(), sleep_records(), sl_load_[r].data(), sl_wake_.data()});
     sl_n_heads_ = heads;
   }
-  // eq 118, end of stage 9: the sleepers found beyond their support wake and
+  // eq 124, end of stage 9: the sleepers found beyond their support wake and
   // join the awake list (list_[cur_], after its `n_awake`); returns how many.
   int wake_loaded(int n_awake) {
     if (sl_n_heads_ == 0) return 0;
@@ -601,7 +601,7 @@ void Pipeline<B>::step() {
     });
     be_.for_n(n_active, LoadTipsK{active, body_, nl, load_parent_.data(), over_support_.data(), support_idx_.data(), load_tips_[t].data(),
                                   load_tips_[1 - t].data(), nullptr, can_rest_.data()});
-    sleeper_loads(n_active, load_[r].data());  // eq 118
+    sleeper_loads(n_active, load_[r].data());  // eq 124
   }
   // eq 112's chain: a body riding on a body that tips tips too (sweeps).
   const int* over = over_support_.data();
@@ -740,7 +740,7 @@ void Pipeline<B>::step() {
       });
       SleepApplyK apply{active, body_, sc_, nl, pairs, sleep_sw_[r].data(), leaning_.data(), rests(),
                         grow_.data(), frame_, keep_.data(), nullptr, nullptr, nullptr, {}};
-      apply.load_parent = load_parent_.data();  // eq 118's records
+      apply.load_parent = load_parent_.data();  // eq 124's records
       apply.arms = arms_.data();
       apply.n_arms = n_arms_.data();
       apply.records = sleep_records();
@@ -757,7 +757,7 @@ void Pipeline<B>::step() {
     new_awake = host[0];
     error = host[1];
     cur_ = 1 - cur_;
-    new_awake += wake_loaded(new_awake);  // eq 118
+    new_awake += wake_loaded(new_awake);  // eq 124
     counters_.pairs_tested = ctr[kCPairsTested];
     counters_.ground_contacts = ctr[kCGroundContacts];
     counters_.sdf_contacts = ctr[kCSdfContacts];

@@ -1,4 +1,4 @@
-// The GPU engine's kernels of eq 118 (docs/SPEC.md Part 4: a sleeper under
+// The GPU engine's kernels of eq 124 (docs/SPEC.md Part 4: a sleeper under
 // a load). World<T> forms the sleepers' loads from the top down in one pass;
 // here the (sleeping parent, child) pairs are compacted in ascending child
 // index and stably sorted by parent (so each parent's children stay in
@@ -13,7 +13,7 @@ namespace lockstep::gpu {
 
 LS_HD inline bool is_asleep(std::uint8_t f) { return (f & (kFlagStatic | kFlagAsleep)) == kFlagAsleep; }
 
-// Per body j: its sleeping load parent (eq 118's pair key), or n (none).
+// Per body j: its sleeping load parent (eq 124's pair key), or n (none).
 struct SleeperChildK {
   BodyArrays b;
   const int* load_parent;  // per body (ContactsK): read for the awake ones
@@ -21,7 +21,7 @@ struct SleeperChildK {
   int n;
   int* flag;      // per body: 1 when j is a sleeper's load child
   unsigned* key;  // per body: the parent, or n
-  int* awake_children;  // how many of them are awake (none: eq 118 has nothing to do)
+  int* awake_children;  // how many of them are awake (none: eq 124 has nothing to do)
   LS_HD void operator()(int j) const {
     const std::uint8_t fj = ro(b.flags + j);
     int s = kLoadNone;

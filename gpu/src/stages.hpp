@@ -790,7 +790,7 @@ struct ContactsK {
     float support_mu = 0.0f;               // eq 116: the first support contact's friction (eq 58)
     int parent = kLoadNone;                // eq 117: fold_load_parent over the support contacts
     // v_n: the contact's closing speed (contact_closing_speed, the lower body first).
-    // mu2: the other side's friction; movable: the other side is a dynamic body, awake or asleep (eqs 117, 118).
+    // mu2: the other side's friction; movable: the other side is a dynamic body, awake or asleep (eqs 117, 124).
     auto add_support = [&](int who, const Vec3<float>& n, float penetration, const Vec3<float>& point, float v_n,
                            float mu2, bool movable) {
       support_sum += n * support_weight(penetration, fade);  // eq 98

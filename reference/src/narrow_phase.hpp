@@ -240,7 +240,7 @@ void World<T>::narrow_phase() {
   }
   if (!oriented) return;
   // eq 117: load parents (the one dynamic body below that every support
-  // contact touches; eq 117 reads it when that body is awake, eq 118 when it
+  // contact touches; eq 117 reads it when that body is awake, eq 124 when it
   // sleeps), then each load from the top down (stage 6's order reversed:
   // children first), its children in ascending index; a body whose load's
   // centre is not over its support tips with its load: it does not settle
@@ -331,7 +331,7 @@ bool World<T>::form_load(int idx, const std::vector<std::pair<int, int>>& childr
   return first != last;
 }
 
-// eq 118: with an awake body resting on a sleeper (sleeper_children_ holds
+// eq 124: with an awake body resting on a sleeper (sleeper_children_ holds
 // those), the sleepers' loads: their sleeping children join, each sleeper's
 // load is formed from the top down (descending stage 6 order), and a sleeper
 // whose load's centre is not over its recorded support points wakes at the
@@ -357,7 +357,7 @@ void World<T>::sleeper_loads() {
   sleeper_loads_.erase(std::unique(sleeper_loads_.begin(), sleeper_loads_.end()), sleeper_loads_.end());
   for (const int idx : sleeper_loads_) {
     const bool carries = form_load(idx, sleeper_children_);
-    check_faults(idx, "sleeper load (eq 118)");
+    check_faults(idx, "sleeper load (eq 124)");
     const SleepSupport& rec = sleep_support_[static_cast<std::size_t>(idx)];
     if (carries && !sleeper_load_over_support(rec.arms.data(), rec.count, load_offset_[static_cast<std::size_t>(idx)]))
       wake_load_[static_cast<std::size_t>(idx)] = 1;

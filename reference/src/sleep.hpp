@@ -84,7 +84,7 @@ void World<T>::record_supports(std::size_t i) {
     const Vec3<T> at = support_point(s.p, s.R, local);
     rests.push_back({other, local, at, at});
   }
-  // eq 118: its load parent and support points as it falls asleep (the
+  // eq 124: its load parent and support points as it falls asleep (the
   // oriented-box model: the source's AABB model forms no loads).
   if (scene_.pair_contacts != PairModel::kOrientedBox) return;
   SleepSupport& rec = sleep_support_[i];
@@ -94,7 +94,7 @@ void World<T>::record_supports(std::size_t i) {
     rec.arms[static_cast<std::size_t>(k)] = horizontal(support_arms_[i][static_cast<std::size_t>(k)]);
 }
 
-// eq 118: the sleepers whose load left their support this frame wake, in
+// eq 124: the sleepers whose load left their support this frame wake, in
 // index order, as eq 81 wakes a body.
 template <class T>
 void World<T>::wake_loaded() {

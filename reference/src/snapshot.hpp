@@ -76,7 +76,7 @@ void World<T>::save_state(std::vector<std::uint8_t>& out) const {
     const std::vector<Rest>& rests = rests_[i];
     const bool has_v = !zero(b.v), has_w = !zero(b.w), has_sleep_frame = b.sleep_frame >= 0;
     const SleepSupport& sup = sleep_support_[i];
-    const bool has_support = b.asleep && (sup.parent >= 0 || sup.count > 0);  // eq 118's record
+    const bool has_support = b.asleep && (sup.parent >= 0 || sup.count > 0);  // eq 124's record
     c.u8(static_cast<std::uint8_t>((b.asleep ? 1 : 0) | (has_v ? 2 : 0) | (has_w ? 4 : 0) | (has_sleep_frame ? 8 : 0) |
                                    (rests.size() << 4) | (has_support ? 0x80 : 0)));
     vec(b.p);
@@ -94,7 +94,7 @@ void World<T>::save_state(std::vector<std::uint8_t>& out) const {
       vec(r.rest);
       if (moved) vec(r.last);
     }
-    if (has_support) {  // eq 118: varint 0 (no parent) or zigzag(parent - i) + 1; the count; x, z of each arm
+    if (has_support) {  // eq 124: varint 0 (no parent) or zigzag(parent - i) + 1; the count; x, z of each arm
       const std::int64_t d = static_cast<std::int64_t>(sup.parent) - static_cast<std::int64_t>(i);
       c.varint(sup.parent < 0 ? 0 : ((static_cast<std::uint64_t>(d) << 1) ^ static_cast<std::uint64_t>(d < 0 ? -1 : 0)) + 1);
       c.varint(static_cast<std::uint64_t>(sup.count));

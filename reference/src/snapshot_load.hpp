@@ -31,7 +31,7 @@ void World<T>::read_moving_state(snap::Reader& r, std::uint32_t frame, bool deri
       if (records > static_cast<std::size_t>(kMaxRests))
         refuse("flags", "byte " + std::to_string(flags) + " names more than " + std::to_string(kMaxRests) +
                             " support records");
-      if ((flags & 0x80) != 0 && (flags & 1) == 0) refuse("flags", "an eq 118 record on a body that is not asleep");
+      if ((flags & 0x80) != 0 && (flags & 1) == 0) refuse("flags", "an eq 124 record on a body that is not asleep");
       if (b.is_static && (flags & 0x0f) != 0) refuse("flags", "a static body cannot be asleep, move or have slept");
       if ((flags & 1) != 0 && !scene_.effects.sleep) refuse("flags", "asleep in a scene without the sleep effect");
       b.asleep = (flags & 1) != 0;
@@ -80,7 +80,7 @@ void World<T>::read_moving_state(snap::Reader& r, std::uint32_t frame, bool deri
       }
       SleepSupport& sup = sleep_support_[i];
       sup = SleepSupport{};
-      if ((flags & 0x80) != 0) {  // eq 118's record
+      if ((flags & 0x80) != 0) {  // eq 124's record
         const std::uint64_t key = r.varint("support.parent");
         if (key != 0) {
           const std::uint64_t zz = key - 1;

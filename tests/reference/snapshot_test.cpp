@@ -278,7 +278,7 @@ TEST(SnapshotRefusal, ForeignSnapshotsNameWhatIsWrong) {
   v3[8] = 3;
   reseal(v3);
   EXPECT_NE(refusal<Q16>(v3).find("format version 3"), std::string::npos) << refusal<Q16>(v3);
-  std::vector<std::uint8_t> v1 = good;  // the format before eq 118's records
+  std::vector<std::uint8_t> v1 = good;  // the format before eq 124's records
   v1[8] = 1;
   reseal(v1);
   EXPECT_NE(refusal<Q16>(v1).find("format version 1; this build reads version 2"), std::string::npos) << refusal<Q16>(v1);
@@ -314,10 +314,10 @@ TEST(SnapshotRefusal, CorruptFieldsBehindAGoodChecksum) {
   reseal(q);
   EXPECT_NE(refusal<Q16>(q).find("body 0: q"), std::string::npos) << refusal<Q16>(q);
 
-  std::vector<std::uint8_t> flags = good;  // eq 118's record on a body that is not asleep
+  std::vector<std::uint8_t> flags = good;  // eq 124's record on a body that is not asleep
   flags[body0] = static_cast<std::uint8_t>((flags[body0] & ~1) | 0x80);
   reseal(flags);
-  EXPECT_NE(refusal<Q16>(flags).find("eq 118 record on a body that is not asleep"), std::string::npos)
+  EXPECT_NE(refusal<Q16>(flags).find("eq 124 record on a body that is not asleep"), std::string::npos)
       << refusal<Q16>(flags);
 
   // A double snapshot with a NaN position.
@@ -389,7 +389,7 @@ TEST(SnapshotSize, SettledPile1000WithinBudget) {
       ++records;
     }
     record_bytes += at - rests_from;
-    if (flags & 0x80) {  // eq 118's record: parent, count, x and z of each arm
+    if (flags & 0x80) {  // eq 124's record: parent, count, x and z of each arm
       const std::size_t support_from = at;
       varint_at(b, at);
       const std::size_t count_at = at;
@@ -402,7 +402,7 @@ TEST(SnapshotSize, SettledPile1000WithinBudget) {
   const std::size_t warm_and_counters = b.size() - kSnapshotChecksumSize - at;
   const double n = static_cast<double>(w.bodies().size());
   std::printf("pile1000 (fixed, frame %d, all asleep): %zu bytes = %.1f B/body: header %zu, scene section %zu, "
-              "moving state %zu (%.1f B/body), eq 108 records %zu in %zu bytes (%.1f B/body), eq 118 records %zu in "
+              "moving state %zu (%.1f B/body), eq 108 records %zu in %zu bytes (%.1f B/body), eq 124 records %zu in "
               "%zu bytes (%.1f B/body), warm cache and counters %zu, checksum %zu\n",
               w.frame(), b.size(), static_cast<double>(b.size()) / n, kSnapshotHeaderSize, section, moving,
               static_cast<double>(moving) / n, records, record_bytes, static_cast<double>(record_bytes) / n, supports,

@@ -181,12 +181,12 @@ TYPED_TEST(StaticsTest, RampHoldsAndStopsWhereFrictionStopsIt) {
   }
 }
 
-// Eq 118: a cube S (1 kg, 1 m) on the edge of a static ledge, its centre
+// Eq 124: a cube S (1 kg, 1 m) on the edge of a static ledge, its centre
 // 0.1 m inside the edge, falls asleep; a cube L (2 kg, 0.5 m) held asleep
 // 1 mm above S's top, its centre 0.3 m beyond the ledge's edge (over S), is
 // woken at frame 60 and settles onto S at 0.06 m/s, too slowly for eq 81.
 // Together their centre lies (2 x 0.3 - 0.1) / 3 = 0.167 m beyond the edge:
-// statics says S tips off the ledge with L. Without eq 118 S slept on under
+// statics says S tips off the ledge with L. Without eq 124 S slept on under
 // L, which rested on it (the sleeper was never asked about its load).
 Scene ledge_with_late_load() {
   Scene s;

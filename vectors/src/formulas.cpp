@@ -410,7 +410,7 @@ Json f_load_tips(In in, const std::string& p) {
   return Json{{"tips", load_tips(bool_at(in, "over", p), bool_at(in, "child_tips", p))}};
 }
 Json f_load_rests(In in, const std::string& p) { return Json{{"rests", load_rests(bool_at(in, "child_tips", p))}}; }
-// eq 118: a sleeper under a load.
+// eq 124: a sleeper under a load.
 Json f_horizontal(In in, const std::string& p) { return Json{{"h", to_json(horizontal(vec_at(in, "v", p)))}}; }
 Json f_sleeper_load_parent(In in, const std::string& p) {
   return Json{{"parent", sleeper_load_parent(bool_at(in, "awake", p), static_cast<int>(int_at(in, "load_parent", p)),
@@ -638,9 +638,9 @@ const std::vector<Formula>& formulas() {
        f_load_over_support},
       {"load_tips", {117}, "not over or child_tips", f_load_tips},
       {"load_rests", {117}, "not child_tips", f_load_rests},
-      {"horizontal", {118}, "(v.x, 0, v.z)", f_horizontal},
-      {"sleeper_load_parent", {118}, "load_parent if awake, else recorded_parent", f_sleeper_load_parent},
-      {"sleeper_load_over_support", {118},
+      {"horizontal", {124}, "(v.x, 0, v.z)", f_horizontal},
+      {"sleeper_load_parent", {124}, "load_parent if awake, else recorded_parent", f_sleeper_load_parent},
+      {"sleeper_load_over_support", {124},
        "load_over_support(arms (their first min(count, 16)), count, horizontal(offset), (0, 1, 0), true); count 0 or "
        "more than 16: true",
        f_sleeper_load_over_support},

@@ -169,10 +169,10 @@ class World {
   void narrow_phase();           // narrow_phase.hpp
   void wake_touched(const std::vector<Contact<T>>& pair_contacts);  // sleep.hpp
   void wake_unsupported();       // sleep.hpp (eq 108)
-  void record_supports(std::size_t i);  // sleep.hpp (eqs 108, 118)
+  void record_supports(std::size_t i);  // sleep.hpp (eqs 108, 124)
   bool form_load(int idx, const std::vector<std::pair<int, int>>& children);  // narrow_phase.hpp (eq 117)
-  void sleeper_loads();          // narrow_phase.hpp (eq 118)
-  void wake_loaded();            // sleep.hpp (eq 118)
+  void sleeper_loads();          // narrow_phase.hpp (eq 124)
+  void wake_loaded();            // sleep.hpp (eq 124)
   void solve_contacts();         // contact_solver.hpp
   void settle();                 // settle.hpp
   void correct_positions();      // contact_solver.hpp
@@ -219,7 +219,7 @@ class World {
   std::vector<char> load_tips_;       // stage 3 scratch: per body, something in its load tips (eq 117)
   std::vector<std::array<Vec3<T>, kMaxSupportPoints>> support_arms_;  // stage 3 scratch: per body, its support contacts' lever arms (eq 112)
   std::vector<int> n_arms_;           // stage 3 scratch: per body, how many (kMaxSupportPoints + 1: too many to look at)
-  // eq 118: what a body recorded as it fell asleep (read only while it sleeps):
+  // eq 124: what a body recorded as it fell asleep (read only while it sleeps):
   // its load parent and its support points' lever arms (horizontal parts).
   struct SleepSupport {
     int parent = kLoadNone;
@@ -227,9 +227,9 @@ class World {
     std::array<Vec3<T>, kMaxSupportPoints> arms{};
   };
   std::vector<SleepSupport> sleep_support_;
-  std::vector<std::pair<int, int>> sleeper_children_;  // stage 3 scratch: (sleeping parent, child), sorted (eq 118)
-  std::vector<int> sleeper_loads_;    // stage 3 scratch: the sleepers whose load eq 118 forms, top down
-  std::vector<char> wake_load_;       // per body: eq 118 wakes it at the end of this frame (stage 3 to 9)
+  std::vector<std::pair<int, int>> sleeper_children_;  // stage 3 scratch: (sleeping parent, child), sorted (eq 124)
+  std::vector<int> sleeper_loads_;    // stage 3 scratch: the sleepers whose load eq 124 forms, top down
+  std::vector<char> wake_load_;       // per body: eq 124 wakes it at the end of this frame (stage 3 to 9)
   std::vector<Vec3<T>> corrected_from_;  // per body: its position before this frame's correction (eq 89 order)
   std::vector<int> order_;            // eq 110: the pair contacts that correct, bottom up
   std::vector<Vec3<T>> turn_;         // eq 111: per body, the turn (rad) this frame's correction gave it

@@ -322,7 +322,7 @@ LS_HD bool load_over_support(const Vec3<T>* r, int count, const Vec3<T>& offset,
   return over_support(shifted, count, n, boundary_over);
 }
 
-// eq 118 (Part 4): a sleeper under a load. A body falling asleep (eq 80)
+// eq 124 (Part 4): a sleeper under a load. A body falling asleep (eq 80)
 // records its support points' lever arms as they were that frame (eq 112's,
 // at most kMaxSupportPoints; a count above it: many) and its load parent
 // (eq 117's, the sole dynamic body under it, asleep or awake). While it
