@@ -16,6 +16,7 @@
 #include "../../reference/src/snapshot_bytes.hpp"
 #include "../../reference/src/snapshot_scene.hpp"
 #include "engine_types.hpp"
+#include "random_scene_gen.hpp"
 #include "lockstep/builtin_scenes.hpp"
 #include "lockstep/snapshot.hpp"
 
@@ -152,50 +153,6 @@ TEST(Snapshot, LoadedSceneHoldsTheSavedState) {
 
 // ---- Random scenes, random save frames ------------------------------------
 
-double grid(int lo, int hi, double step) { return *rc::gen::inRange(lo, hi + 1) * step; }
-
-rc::Gen<Scene> random_scene() {
-  return rc::gen::exec([] {
-    Scene s;
-    s.name = "snapshot_case";
-    s.pair_contacts = *rc::gen::inRange(0, 4) == 0 ? PairModel::kAabb : PairModel::kOrientedBox;
-    const bool bowl = *rc::gen::inRange(0, 5) == 0;
-    if (bowl) s.sdfs = builtin_scene("bowl")->sdfs;  // sphere of radius 6 about (0, 7, 0), floor at y = 1
-    s.effects.sdf = bowl;
-    if (*rc::gen::inRange(0, 5) == 0) {
-      s.effects.settling = *rc::gen::arbitrary<bool>();
-      s.effects.friction = *rc::gen::arbitrary<bool>();
-      s.effects.restitution = *rc::gen::arbitrary<bool>();
-      s.effects.sleep = *rc::gen::arbitrary<bool>();
-    }
-    s.ground.material = {grid(0, 8, 1.0 / 16), grid(2, 16, 1.0 / 16)};
-    const int n = *rc::gen::inRange(1, 7);
-    double y = bowl ? 1.0 : 0.0;
-    if (!bowl && *rc::gen::inRange(0, 4) == 0) {  // a static slab under the pile
-      BodyDesc slab;
-      slab.is_static = true;
-      slab.half_extents = {2.0, 0.25, 2.0};
-      slab.position = {grid(-4, 4, 1.0 / 8), 0.25, grid(-4, 4, 1.0 / 8)};
-      slab.orientation = {1.0, grid(-2, 2, 1.0 / 64), 0.0, 0.0};
-      s.bodies.push_back(slab);
-      y = 0.5;
-    }
-    for (int i = 0; i < n; ++i) {
-      BodyDesc b;
-      b.half_extents = {grid(16, 48, 1.0 / 64), grid(16, 48, 1.0 / 64), grid(16, 48, 1.0 / 64)};
-      b.mass = grid(2, 16, 0.25);
-      b.material = {grid(0, 8, 1.0 / 16), grid(2, 16, 1.0 / 16)};
-      b.position = {grid(-4, 4, 1.0 / 8), y + b.half_extents.y + grid(0, 8, 1.0 / 16), grid(-4, 4, 1.0 / 8)};
-      y = b.position.y + b.half_extents.y;
-      b.orientation = {1.0, grid(-4, 4, 1.0 / 64), grid(-8, 8, 1.0 / 16), grid(-4, 4, 1.0 / 64)};
-      b.velocity = {grid(-8, 8, 1.0 / 8), grid(-8, 4, 1.0 / 8), grid(-8, 8, 1.0 / 8)};
-      b.angular_velocity = {grid(-4, 4, 1.0 / 8), grid(-4, 4, 1.0 / 8), grid(-4, 4, 1.0 / 8)};
-      s.bodies.push_back(b);
-    }
-    return s;
-  });
-}
-
 template <class T>
 void random_resume_property(int max_frames) {
   const Scene scene = *random_scene();
@@ -273,10 +230,14 @@ TEST(SnapshotRefusal, ForeignSnapshotsNameWhatIsWrong) {
   World<double> dw(*builtin_scene("stack5"));
   EXPECT_THROW(dw.restore_state(good), SnapshotError);
 
-  std::vector<std::uint8_t> v2 = good;
-  v2[8] = 2;
-  reseal(v2);
-  EXPECT_NE(refusal<Q16>(v2).find("format version 2"), std::string::npos) << refusal<Q16>(v2);
+  std::vector<std::uint8_t> v3 = good;  // a later format (this build reads version 2)
+  v3[8] = 3;
+  reseal(v3);
+  EXPECT_NE(refusal<Q16>(v3).find("format version 3"), std::string::npos) << refusal<Q16>(v3);
+  std::vector<std::uint8_t> v1 = good;  // version 1 had no id table and no pending forces
+  v1[8] = 1;
+  reseal(v1);
+  EXPECT_NE(refusal<Q16>(v1).find("format version 1"), std::string::npos) << refusal<Q16>(v1);
 
   std::vector<std::uint8_t> magic = good;
   magic[0] = '{';
@@ -331,7 +292,7 @@ TEST(Snapshot, HeaderLayout) {
   for (int f = 0; f < 3; ++f) w.step();
   const std::vector<std::uint8_t> b = w.save_state();
   EXPECT_EQ(std::string(b.begin(), b.begin() + 8), "LKSTSNAP");
-  EXPECT_EQ(b[8] | b[9] << 8, 1);
+  EXPECT_EQ(b[8] | b[9] << 8, 2);
   EXPECT_EQ(b[10], 1);
   EXPECT_EQ(b[12], 5);
   std::uint64_t hash = 0, size = 0;
@@ -383,10 +344,10 @@ TEST(SnapshotSize, SettledPile1000WithinBudget) {
     }
     record_bytes += at - rests_from;
   }
-  const std::size_t warm_and_counters = b.size() - kSnapshotChecksumSize - at;
+  const std::size_t warm_and_counters = b.size() - kSnapshotChecksumSize - at;  // with the id table and pending forces (2 bytes)
   const double n = static_cast<double>(w.bodies().size());
   std::printf("pile1000 (fixed, frame %d, all asleep): %zu bytes = %.1f B/body: header %zu, scene section %zu, "
-              "moving state %zu (%.1f B/body), eq 108 records %zu in %zu bytes (%.1f B/body), warm cache and counters %zu, "
+              "moving state %zu (%.1f B/body), eq 108 records %zu in %zu bytes (%.1f B/body), warm cache, ids, forces and counters %zu, "
               "checksum %zu\n",
               w.frame(), b.size(), static_cast<double>(b.size()) / n, kSnapshotHeaderSize, section, moving,
               static_cast<double>(moving) / n, records, record_bytes, static_cast<double>(record_bytes) / n,
