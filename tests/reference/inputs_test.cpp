@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "../../reference/src/snapshot_bytes.hpp"
 #include "engine_types.hpp"
 #include "lockstep/builtin_scenes.hpp"
 #include "lockstep/input.hpp"
@@ -274,6 +275,40 @@ TEST(InputIds, StableAcrossRemovalsAndReusedLowestFirst) {
   EXPECT_FALSE(back.contains(b1));
 }
 
+// The snapshot's id table and pending forces (docs/SNAPSHOTS.md "Then") are
+// checked like the rest: a slot past the table or held twice, a force
+// naming no body, each refused with a SnapshotError naming the field.
+TEST(InputSnapshots, BadIdTablesAndForcesAreRefused) {
+  World<Q16> w(*builtin_scene("stack5"));
+  w.destroy_body(w.id_of(1));  // slots 0..4, slot 1 free at generation 1; frame 0: every counter 0
+  w.add_force(w.id_of(0), {1, 2, 3}, {0, 0, 1});
+  const std::vector<std::uint8_t> good = w.save_state();
+  ASSERT_NO_THROW(World<Q16>::load_state(good));
+  // ... the ids (5; 0 1 0 0 0; 0 2 3 4), forces (1; 0; 6 numbers), 16 counters (0), checksum.
+  const std::size_t forces = good.size() - 8 - 16 - 2 - 24, last_slot = forces - 1;
+  ASSERT_EQ(good[last_slot], 4);
+  ASSERT_EQ(good[forces], 1);
+  auto refusal = [](std::vector<std::uint8_t> b, std::size_t at, std::uint8_t value) -> std::string {
+    b[at] = value;
+    const std::uint64_t sum = snap::checksum(b.data(), b.size() - 8);
+    for (int i = 0; i < 8; ++i) b[b.size() - 8 + static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(sum >> (8 * i));
+    try {
+      (void)World<Q16>::load_state(b);
+    } catch (const SnapshotError& e) {
+      return e.field + ": " + e.what();
+    }
+    return "";
+  };
+  const std::string twice = refusal(good, last_slot, 0);
+  EXPECT_NE(twice.find("holds another body"), std::string::npos) << twice;
+  const std::string past = refusal(good, last_slot, 9);
+  EXPECT_NE(past.find("ids.slot[3]"), std::string::npos) << past;
+  const std::string body = refusal(good, forces + 1, 7);
+  EXPECT_NE(body.find("forces[0]"), std::string::npos) << body;
+  const std::string count = refusal(good, forces, 9);
+  EXPECT_NE(count.find("forces.count"), std::string::npos) << count;
+}
+
 // Inputs before the first step equal a scene built with their result, bit
 // for bit, frame after frame: a creation (the body appended), a removal (the
 // body left out), a velocity and a pose.
@@ -311,12 +346,13 @@ TYPED_TEST(InputTest, InputsBeforeTheFirstStepEqualTheResultingScene) {
 // ---- The property: random scenes, inputs and save frames ---------------------
 
 // Steps w from its frame to `last`, applying inputs[k] (those of frame f
-// before step f) and collecting the hash after each step.
+// before step f) and collecting the hash after each step. `applied`: those of
+// the next frame are in w already (a snapshot saved between inputs and step).
 template <class T>
-std::vector<std::uint64_t> run(World<T>& w, const std::vector<Input>& inputs, int last) {
+std::vector<std::uint64_t> run(World<T>& w, const std::vector<Input>& inputs, int last, bool applied = false) {
   std::vector<std::uint64_t> h;
   std::size_t k = 0;
-  while (k < inputs.size() && inputs[k].frame <= w.frame()) ++k;
+  while (k < inputs.size() && inputs[k].frame <= w.frame() + (applied ? 1 : 0)) ++k;
   while (w.frame() < last) {
     for (; k < inputs.size() && inputs[k].frame == w.frame() + 1; ++k) w.apply(inputs[k]);
     w.step();
@@ -330,6 +366,9 @@ void random_inputs_resume(int max_frames) {
   const Scene scene = *random_scene();
   const int frames = *rc::gen::inRange(1, max_frames + 1);
   const int save = *rc::gen::inRange(0, frames + 1);
+  // Saved between the inputs of frame save + 1 and its step (forces pending,
+  // bodies just created or moved), or before those inputs.
+  const bool mid = save < frames && *rc::gen::arbitrary<bool>();
   const std::vector<Drawn> drawn = *drawn_inputs(frames);
   const std::vector<Drawn> other_drawn = *drawn_inputs(20);
   const int other_frames = *rc::gen::inRange(0, 20);
@@ -341,7 +380,7 @@ void random_inputs_resume(int max_frames) {
     std::vector<std::uint8_t> bytes;
     std::size_t k = 0;
     for (int f = 1; f <= frames; ++f) {
-      if (f - 1 == save) bytes = w.save_state();
+      if (f - 1 == save && !mid) bytes = w.save_state();
       for (; k < drawn.size() && drawn[k].frame == f; ++k) {
         if (drawn[k].kind != InputKind::create && w.bodies().empty()) continue;
         const Input in = concrete(drawn[k], w);
@@ -351,6 +390,7 @@ void random_inputs_resume(int max_frames) {
         } catch (const std::invalid_argument&) {  // refused (a value out of T's range): the world is unchanged
         }
       }
+      if (f - 1 == save && mid) bytes = w.save_state();
       w.step();
       want.push_back(w.state_hash());
     }
@@ -359,7 +399,7 @@ void random_inputs_resume(int max_frames) {
     // Resumed from the bytes alone.
     World<T> loaded = World<T>::load_state(bytes);
     RC_ASSERT(loaded.frame() == save);
-    RC_ASSERT(run(loaded, applied, frames) == tail);
+    RC_ASSERT(run(loaded, applied, frames, mid) == tail);
     RC_ASSERT(loaded.save_state() == w.save_state());
     // Restored into another world of the scene, which had inputs of its own.
     World<T> other(scene);
@@ -373,7 +413,7 @@ void random_inputs_resume(int max_frames) {
       }
     }
     other.restore_state(bytes);
-    RC_ASSERT(run(other, applied, frames) == tail);
+    RC_ASSERT(run(other, applied, frames, mid) == tail);
     RC_ASSERT(other.save_state() == w.save_state());
   } catch (const RunError&) {
     RC_DISCARD("the run stopped (RunError)");
