@@ -23,9 +23,11 @@ std::string body_text(std::size_t i, BodyId id) {
 }  // namespace
 
 // The host copy: the pipeline's state after its last step, with the
-// constants of every body.
-void GpuInputs::begin(PipelineBase& pipeline, int frame) {
-  if (dirty_) return;
+// constants of every body. An input marks it dirty (a rebuild before the
+// next step) only once it is checked and applied, so that a refused input
+// changes nothing.
+void GpuInputs::begin(PipelineBase& pipeline) {
+  if (dirty_ || copy_frame_ == pipeline.frame()) return;
   pipeline.download(edit_, true);
   const InitialState s = make_initial_state(scene_);
   half_ = s.half;
@@ -34,8 +36,7 @@ void GpuInputs::begin(PipelineBase& pipeline, int frame) {
     edit_.rest_count.assign(edit_.pos.size(), 0);
     edit_.rest_body.assign(kRests * edit_.pos.size(), -1);
   }
-  frame_ = frame;
-  dirty_ = true;
+  copy_frame_ = pipeline.frame();
 }
 
 void GpuInputs::wake(std::size_t i) {
@@ -85,8 +86,10 @@ BodyId GpuInputs::apply(const Input& in, PipelineBase& pipeline) {
       throw std::invalid_argument("create_body: the world has " + std::to_string(scene_.bodies.size()) +
                                   " bodies, the most a scene may hold; destroy one first");
     input_check::body(scene_, in.body, "float", "create_body", "input.body");
-    begin(pipeline, frame);
-    Scene one = scene_;
+    begin(pipeline);
+    Scene one;  // the body alone, with the scene's constants and effects
+    one.constants = scene_.constants;
+    one.effects = scene_.effects;
     one.bodies = {in.body};
     const InitialState s = make_initial_state(one);  // World<float>'s body, term by term
     edit_.pos.push_back(s.pos[0]); edit_.rot.push_back(s.rot[0]); edit_.vel.push_back(s.vel[0]);
@@ -97,6 +100,7 @@ BodyId GpuInputs::apply(const Input& in, PipelineBase& pipeline) {
     edit_.rest_count.push_back(0);
     for (int r = 0; r < kRests; ++r) edit_.rest_body.push_back(-1);
     scene_.bodies.push_back(in.body);
+    dirty_ = true;
     return ids_.add();
   }
   const char* name = input_kind_name(in.kind);
@@ -105,7 +109,8 @@ BodyId GpuInputs::apply(const Input& in, PipelineBase& pipeline) {
   const bool is_static = (scene_.bodies[i].is_static);
   switch (in.kind) {
     case InputKind::destroy: {
-      begin(pipeline, frame);
+      begin(pipeline);
+      dirty_ = true;
       if (is_static) wake_all();
       else wake_resting_on(i);
       erase(i);
@@ -116,7 +121,7 @@ BodyId GpuInputs::apply(const Input& in, PipelineBase& pipeline) {
       input_check::vector(in.b, input_check::kMaxPoint, "m", what, "input.b (point)",
                           "give a world point within +-32000 m (normally on or in the body)");
       if (is_static) break;
-      begin(pipeline, frame);
+      begin(pipeline);
       const F4 p = edit_.pos[i];
       const Mat3<float> R = rotation_matrix(quat(edit_.rot[i]));
       const Vec3<float> j = to_vec(in.a), r = to_vec(in.b) - xyz(p);
@@ -124,6 +129,7 @@ BodyId GpuInputs::apply(const Input& in, PipelineBase& pipeline) {
       const Vec3<float> w = xyz(edit_.ang[i]) + apply_inverse_inertia(R, xyz(inert_[i]), cross(r, j));  // eqs 87, 90
       if (!finite3(v) || !finite3(w))
         throw std::invalid_argument(what + ": the body's velocity would leave the float engine's range; give a smaller impulse");
+      dirty_ = true;
       wake(i);
       edit_.vel[i] = f4(v, 0.0f);
       edit_.ang[i] = f4(w, 0.0f);
@@ -134,7 +140,8 @@ BodyId GpuInputs::apply(const Input& in, PipelineBase& pipeline) {
       input_check::vector(in.a, input_check::kMaxForce, "N", what, "input.a (F)", "give each component within +-1e7 N");
       input_check::vector(in.b, input_check::kMaxForce, "N m", what, "input.b (torque)", "give each component within +-1e7 N m");
       if (is_static) break;
-      begin(pipeline, frame);
+      begin(pipeline);
+      dirty_ = true;
       const int body = static_cast<int>(i);
       auto it = std::lower_bound(forces_.begin(), forces_.end(), body, [](const Force& f, int x) { return f.body < x; });
       if (it != forces_.end() && it->body == body) {
@@ -152,7 +159,8 @@ BodyId GpuInputs::apply(const Input& in, PipelineBase& pipeline) {
       desc.position = in.a;
       desc.orientation = in.q;
       input_check::body(scene_, desc, "float", what, "input");
-      begin(pipeline, frame);
+      begin(pipeline);
+      dirty_ = true;
       edit_.pos[i] = f4(to_vec(in.a), edit_.pos[i].w);
       const auto n = [](double x) { return Num<float>::from_double(x); };
       edit_.rot[i] = f4(normalize(Quat<float>{n(in.q.w), n(in.q.x), n(in.q.y), n(in.q.z)}));  // eq 10
@@ -175,7 +183,8 @@ BodyId GpuInputs::apply(const Input& in, PipelineBase& pipeline) {
       desc.velocity = in.a;
       desc.angular_velocity = in.b;
       input_check::body(scene_, desc, "float", what, "input");
-      begin(pipeline, frame);
+      begin(pipeline);
+      dirty_ = true;
       wake(i);
       edit_.vel[i] = f4(to_vec(in.a), 0.0f);
       edit_.ang[i] = f4(to_vec(in.b), 0.0f);
@@ -184,7 +193,9 @@ BodyId GpuInputs::apply(const Input& in, PipelineBase& pipeline) {
     }
     case InputKind::wake: {
       if (is_static) break;
-      begin(pipeline, frame);
+      begin(pipeline);
+      if ((edit_.flags[i] & kFlagAsleep) == 0) break;  // awake: nothing to do
+      dirty_ = true;
       wake(i);
       break;
     }
@@ -224,6 +235,7 @@ InitialState GpuInputs::take_state() {
   }
   forces_.clear();
   dirty_ = false;
+  copy_frame_ = -1;
   wakes_ = 0;
   return s;
 }

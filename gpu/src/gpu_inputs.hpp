@@ -41,7 +41,7 @@ class GpuInputs {
 
  private:
   struct Force { int body; Vec3<float> f, tau; };
-  void begin(PipelineBase& pipeline, int frame);
+  void begin(PipelineBase& pipeline);
   void wake(std::size_t i);
   void wake_resting_on(std::size_t i);
   void wake_all();
@@ -52,8 +52,8 @@ class GpuInputs {
   HostState edit_;  // full: with sleep counters and eq 108's supporters
   std::vector<F4> half_, inert_;  // per body, as InitialState
   std::vector<Force> forces_;     // ascending body
-  bool dirty_ = false;
-  int frame_ = 0;
+  bool dirty_ = false;   // an input changed the copy: the next step rebuilds the pipeline
+  int copy_frame_ = -1;  // the frame whose state edit_ holds (-1: none)
   std::uint64_t wakes_ = 0;
 };
 

@@ -106,8 +106,10 @@ void World<T>::destroy_body(BodyId id) {
   const int gone = static_cast<int>(k);
   auto down = [gone](int& x) { if (x > gone) --x; };
   for (CachedImpulse& e : warm_) { down(e.a); down(e.b); }  // a monotone map: the (a, b, feature) order holds
-  for (std::vector<Rest>& rests : rests_)
-    for (Rest& r : rests) down(r.body);  // none names k: its sleepers woke
+  for (std::vector<Rest>& rests : rests_) {  // the sleepers on k woke (records cleared); no other record may name it
+    std::erase_if(rests, [gone](const Rest& r) { return r.body == gone; });
+    for (Rest& r : rests) down(r.body);
+  }
   std::erase_if(forces_, [gone](const PendingForce& f) { return f.body == gone; });
   for (PendingForce& f : forces_) down(f.body);
   ids_.remove(k);  // the id goes stale
