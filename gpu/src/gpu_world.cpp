@@ -8,6 +8,7 @@
 #include "lockstep/gpu/formula_cases.hpp"
 #include "lockstep/gpu/gpu_engine.hpp"
 #include "lockstep/gpu/soa.hpp"
+#include "gpu_inputs.hpp"
 #include "pipeline_base.hpp"
 
 namespace lockstep {
@@ -74,7 +75,12 @@ struct GpuWorld::Impl {
   int mirror_frame = -1;
   std::vector<F4> half, inert;  // constants: half extents (w: e), inverse inertia (w: mu)
   Vec3d gravity;
+  GpuOptions options;
+  std::unique_ptr<GpuInputs> inputs;  // run-time inputs (gpu_inputs.hpp)
+  StageCounters base, total;          // base: the counters of the pipelines the inputs replaced
+  const std::vector<F4>& inert_now() const { return inputs->pending() ? inputs->inert() : inert; }
   const HostState& state() {
+    if (inputs->pending()) return inputs->state();
     if (mirror_frame != pipeline->frame()) {
       pipeline->download(mirror);
       mirror_frame = pipeline->frame();
@@ -88,18 +94,58 @@ GpuWorld::GpuWorld(const Scene& scene, const GpuOptions& options) : impl_(std::m
   impl_->half = s.half;
   impl_->inert = s.inert;
   impl_->gravity = scene.constants.gravity;
+  impl_->options = options;
+  impl_->inputs = std::make_unique<GpuInputs>(scene);
   impl_->pipeline = make_pipeline(s, options);
 }
 
 GpuWorld::~GpuWorld() = default;
 
-void GpuWorld::step() { impl_->pipeline->step(); }
+namespace {
+StageCounters sum(StageCounters a, const StageCounters& b) {
+  std::uint64_t* x = &a.integrate_velocity;
+  const std::uint64_t* y = &b.integrate_velocity;
+  static_assert(sizeof(StageCounters) == 16 * sizeof(std::uint64_t), "StageCounters is 16 counters");
+  for (int k = 0; k < 16; ++k) x[k] += y[k];
+  return a;
+}
+}  // namespace
+
+void GpuWorld::step() {
+  Impl& m = *impl_;
+  if (m.inputs->pending()) {  // the inputs since the last step: a new pipeline from their state
+    const int frame = m.pipeline->frame();
+    m.base = sum(m.base, m.pipeline->counters());
+    m.base.wakes += m.inputs->wakes();
+    const InitialState s = m.inputs->take_state();
+    m.half = s.half;
+    m.inert = s.inert;
+    GpuOptions quiet = m.options;
+    quiet.quiet = true;  // the first pipeline said which backend runs
+    m.pipeline = make_pipeline(s, quiet);
+    m.pipeline->set_frame(frame);
+    m.mirror_frame = -1;
+  }
+  m.pipeline->step();
+}
+BodyId GpuWorld::apply(const Input& input) { return impl_->inputs->apply(input, *impl_->pipeline); }
+int GpuWorld::index_of(BodyId id) const { return static_cast<int>(impl_->inputs->ids().require(id, "index_of")); }
+BodyId GpuWorld::id_of(int index) const {
+  if (index < 0) throw std::invalid_argument("id_of: index = " + std::to_string(index) + " is not a body index");
+  return impl_->inputs->ids().id_of(static_cast<std::size_t>(index));
+}
 int GpuWorld::frame() const { return impl_->pipeline->frame(); }
-int GpuWorld::body_count() const { return impl_->pipeline->body_count(); }
+int GpuWorld::body_count() const {
+  return impl_->inputs->pending() ? impl_->inputs->body_count() : impl_->pipeline->body_count();
+}
 int GpuWorld::awake_count() const { return impl_->pipeline->awake_count(); }
 bool GpuWorld::on_device() const { return impl_->pipeline->on_device(); }
 std::string GpuWorld::description() const { return impl_->pipeline->description(); }
-const StageCounters& GpuWorld::counters() const { return impl_->pipeline->counters(); }
+const StageCounters& GpuWorld::counters() const {
+  impl_->total = sum(impl_->base, impl_->pipeline->counters());
+  impl_->total.wakes += impl_->inputs->wakes();
+  return impl_->total;
+}
 StageTimes GpuWorld::stage_times() const { return impl_->pipeline->stage_times(); }
 void GpuWorld::reset_stage_times() { impl_->pipeline->reset_stage_times(); }
 
@@ -146,7 +192,7 @@ double GpuWorld::energy() const {
     e -= m * (g.x * p.x + g.y * p.y + g.z * p.z);
     const Mat3<float> R = rotation_matrix(quat(s.rot[i]));
     const Vec3<float> wb = mat_transpose_mul(R, xyz(s.ang[i]));
-    const Vec3<float> inv_i = xyz(impl_->inert[i]);
+    const Vec3<float> inv_i = xyz(impl_->inert_now()[i]);
     for (int a = 0; a < 3; ++a) {
       const double ii = inv_i[a];
       if (ii > 0.0) e += 0.5 * static_cast<double>(wb[a]) * static_cast<double>(wb[a]) / ii;
@@ -167,6 +213,7 @@ class GpuRun final : public EngineRun {
     return jacobi_ ? world_.description() + ", Jacobi pair solver" : world_.description();
   }
   void step() override { world_.step(); }
+  void apply(const Input& input) override { world_.apply(input); }
   int frame() const override { return world_.frame(); }
   int body_count() const override { return world_.body_count(); }
   BodySnapshot body(int i) const override { return world_.body(i); }

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "lockstep/compare/engine.hpp"
+#include "lockstep/input.hpp"
 #include "lockstep/scene.hpp"
 #include "lockstep/world.hpp"
 
@@ -119,7 +120,16 @@ class GpuWorld {
   StageTimes stage_times() const;
   void reset_stage_times();
 
-  // State of body i after the last step (downloaded once per frame).
+  // Run-time inputs (docs/GPU.md "Run-time inputs"): as World<T>::apply,
+  // with World<T>'s body order and ids; taken up by rebuilding the pipeline
+  // before the next step (without the warm-start cache and eq 108's
+  // records). Throws std::invalid_argument for a bad input.
+  BodyId apply(const Input& input);
+  int index_of(BodyId id) const;
+  BodyId id_of(int index) const;
+
+  // State of body i after the last step (downloaded once per frame), or as
+  // the inputs since left it.
   BodySnapshot body(int i) const;
   std::uint64_t state_hash() const;  // eq 92 over the IEEE binary64 bits, like World<float>
   double energy() const;             // (J), evaluated in double like World<float>
