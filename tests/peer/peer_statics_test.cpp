@@ -10,19 +10,22 @@
 // asleep at frame 600). The counts are printed side by side; each of
 // lockstep's engines must topple every falling tower and stand at least 98
 // of the 100 standing ones (docs/STATICS.md: 99.1 % of 1,000 in fixed).
-// Jolt (the Python package culverin) is run on the same towers by
-// tests/bench/peers.py, not here.
+// Jolt (the Python package culverin) runs the same towers in
+// PeerTowersJolt (tests/peer/jolt_towers.py), from the file
+// PeerTowers.WritesTheTowersForJolt writes under the build tree.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <map>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "bullet_run.hpp"
+#include "lockstep/scene_json.hpp"
 
 namespace lockstep::peer {
 namespace {
@@ -153,6 +156,20 @@ TEST(PeerTowers, FloatAgreesWithStatics) { expect_right("float"); }
 TEST(PeerTowers, DoubleAgreesWithStatics) { expect_right("double"); }
 // The GPU engine: its host build where there is no CUDA device, as in CI.
 TEST(PeerTowers, GpuAgreesWithStatics) { expect_right("gpu"); }
+
+// The towers for Jolt (jolt_towers.py): a JSON list of {falls, size, scene}
+// in the test's working directory (the build tree).
+TEST(PeerTowers, WritesTheTowersForJolt) {
+  std::ofstream out("peer_towers.json");
+  out << "[\n";
+  for (std::size_t k = 0; k < towers().size(); ++k) {
+    const Tower& t = towers()[k];
+    out << "{\"falls\": " << (t.falls ? "true" : "false") << ", \"size\": " << t.size
+        << ", \"scene\": " << scene_to_json(t.scene) << "}" << (k + 1 < towers().size() ? ",\n" : "\n");
+  }
+  out << "]\n";
+  ASSERT_TRUE(out.good());
+}
 
 }  // namespace
 }  // namespace lockstep::peer

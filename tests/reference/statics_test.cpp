@@ -1,25 +1,27 @@
 // Statics and Newton's second law decide where a body may rest
-// (docs/SPEC.md Part 4, eqs 116 and 117), on every engine: fixed, float,
-// double, mp and the GPU engine's host build (the CUDA kernels' pipeline).
+// (docs/SPEC.md Part 4, eqs 116, 117 and 124), on every engine: fixed,
+// float, double, mp and the GPU engine's host build (the CUDA kernels'
+// pipeline).
 // - Ramps (eq 116): a cube on a static slab tilted 10, 20 or 30 degrees with
 //   friction below tan(a) slides with acceleration g (sin a - mu cos a),
 //   within 2 % over two seconds; pushed down a ramp whose friction exceeds
 //   tan(a) it stops where friction stops it, v^2 / (2 g (mu cos a - sin a)),
 //   and sleeps. Before eq 116, eq 77 acted as a viscous drag: 0.226 m/s
 //   terminal on 20 degrees with mu 0.2, where Newton says 3.0 m/s after 2 s.
+// - A sleeper under a load (eq 124): a cube asleep on a ledge's edge wakes
+//   and tips when a load set down on its overhanging end puts the centre of
+//   both beyond the edge, and sleeps on under a load over its support.
 // - Overhangs (eq 117): towers of 3-8 cubes (0.5-1 m, 0.5-2 kg) stacked
 //   face on face, each shifted against the one below, so that the centre of
 //   mass of some upper part lies 3-12 cm beyond the edge of the cube under
 //   it: statics says they fall (some cube ends half its size or more below
 //   where it started). Before eq 117 the upper cubes settled and slept
-//   leaning: 8 of 10 stood (now none of 1,420 generated ones; at the
-//   1,421st of the long run a cube fell asleep under a load that then
-//   leaned 1.9 cm beyond its support, which a sleeper's load does not wake:
-//   docs/STATICS.md "What is left"). Towers whose every upper part's centre lies
-//   3-12 cm inside the edge stand (99.4 % of 10,000 in fixed and double;
-//   at most 2 % wrong allowed). At every frame no cube sleeps with the load
-//   it carries beyond its support by more than 1 cm. kTowerCases per engine
-//   in CI (drawn from a fixed seed: the same towers every run),
+//   leaning: 8 of 10 stood (now none of 10,000 in the long run). Towers
+//   whose every upper part's centre lies 3-12 cm inside the edge stand
+//   (99.4 % of 10,000 in fixed; at most 1 % wrong allowed, the issue's 99 %).
+//   At every frame no cube sleeps with the load it carries beyond its
+//   support by more than 1 cm (docs/STATICS.md). kTowerCases per engine in
+//   CI (drawn from a fixed seed: the same towers every run),
 //   LOCKSTEP_TOWER_CASES (10,000) under the label long (fresh ones).
 #include <gtest/gtest.h>
 #include <rapidcheck.h>
@@ -310,9 +312,10 @@ rc::Gen<Tower> tower_gen(bool falls) {
 
 // Every frame, statics' oracle on the part of the tower still stacked as
 // built: cube j rests face on face on cube j - 1 while both are turned by
-// less than 3 degrees from how they were built (each cube starts unrotated),
-// j's centre is one size above j - 1's (within 1 cm) and their faces
-// overlap. A sleeping cube k resting so carries the cubes stacked on it
+// less than 6 degrees from how they were built (each cube starts unrotated;
+// a column may lean a few degrees as a whole), j's centre is one size above
+// j - 1's (within 6 % of the size: a 6 degree tilt on an edge lifts it by
+// 5 %) and their faces overlap. A sleeping cube k resting so carries the cubes stacked on it
 // above; the centre of mass of that load (equal masses) must lie over the
 // overlap of its face and the face of cube k - 1 (an axis-aligned
 // rectangle), or beyond it by at most 1 cm. (Cubes that have fallen rest on
@@ -324,10 +327,10 @@ rc::Gen<Tower> tower_gen(bool falls) {
 template <class E>
 std::string sleeping_load_beyond_support(const E& e, double size) {
   const int n = e.count();
-  const double level = std::cos(1.5 * kPi / 180.0);  // |q.w| of a 3 degree turn
+  const double level = std::cos(3.0 * kPi / 180.0);  // |q.w| of a 6 degree turn
   auto stacked = [&](int lo, int hi) {
     const Snap a = e.body(lo), b = e.body(hi);
-    return a.qw > level && b.qw > level && std::fabs(b.p[1] - a.p[1] - size) < 0.01 &&
+    return a.qw > level && b.qw > level && std::fabs(b.p[1] - a.p[1] - size) < 0.06 * size &&
            std::fabs(b.p[0] - a.p[0]) < size && std::fabs(b.p[2] - a.p[2]) < size;
   };
   for (int k = 1; k < n; ++k) {
@@ -406,12 +409,9 @@ TEST(StaticsProp, OverhangBeyondTheEdgeFallsGpu) {
 // it stands: every cube ends within 2 cm of where it started, all asleep by
 // frame 600 (the statics probe's rule), and no cube sleeps with its load
 // beyond its support at any frame. Issue 30 asks 99 % of towers right on
-// every engine; measured (2026-11-28, tools' statics probe towers): fixed
-// 99.0 % of 600 (before eqs 72-74's damping relative to an awake support:
-// 96 %). The count of wrong ones is printed and at most 2 % allowed: at
-// 1 % a run of 200 would fail about one time in two on a rate of 1 %.
-// The towers are drawn from a fixed seed in CI (the same 200 every run);
-// the long run draws fresh ones.
+// every engine, and so does this test: at most 1 % wrong. The towers are
+// drawn from a fixed seed in CI (the same 200 every run: 1 wrong on each
+// engine, 2026-11-28); the long run draws 10,000 fresh ones.
 template <class E>
 std::string stands(const Tower& t) {
   E e(t.scene);
@@ -454,7 +454,7 @@ void check_stand_rate() {
       },
       kTowerCases);
   std::printf("%s: %d of %d towers that statics says stand did not\n", E::name(), wrong, total);
-  EXPECT_LE(100 * wrong, 2 * total) << E::name() << ": " << wrong << " of " << total << " towers did not stand; first: "
+  EXPECT_LE(100 * wrong, total) << E::name() << ": " << wrong << " of " << total << " towers did not stand; first: "
                                 << first;
 }
 
