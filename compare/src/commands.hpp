@@ -46,6 +46,10 @@ inline constexpr const char* kExitCodes =
     "accuracy is out of bounds; 2 a usage, scene or file error (the message names the option or field and the fix); "
     "3 a run stopped (an engine reported a state it cannot go on from, e.g. a non-finite value)";
 
+// This build in words, for recordings: "lockstep 0.1.0, g++ 12.2.0, x86_64,
+// optimised, commit abc123".
+std::string build_text();
+
 // Splits "a,b,c" into its non-empty names.
 std::vector<std::string> split_list(const std::string& list);
 std::string join(const std::vector<std::string>& v, const std::string& sep = ",");

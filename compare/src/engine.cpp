@@ -25,6 +25,19 @@ template <class T>
 BodySnapshot WorldRun<T>::body(int i) const { return snapshot_of(world_.body(i)); }
 
 template <class T>
+std::vector<StageState> WorldRun<T>::step_stages() {
+  std::vector<StageState> out;
+  out.reserve(kFrameStageCount);
+  world_.step([&out](FrameStage s, World<T>& w) {
+    StageState st{frame_stage_name(s), {}};
+    st.bodies.reserve(w.bodies().size());
+    for (const Body<T>& b : w.bodies()) st.bodies.push_back(snapshot_of(b));
+    out.push_back(std::move(st));
+  });
+  return out;
+}
+
+template <class T>
 std::vector<std::int32_t> WorldRun<T>::raw_state(int i) const {
   if constexpr (std::is_same_v<T, Q16>) {
     const Body<T>& b = world_.body(i);

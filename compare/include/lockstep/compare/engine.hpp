@@ -47,6 +47,13 @@ struct ContactSnapshot {
   double penetration = 0;
 };
 
+// Every body's state after one stage of a frame (`lockstep replay`'s
+// bisection): the stage's name ("5 solve", docs/SPEC.md 7.2) and the bodies.
+struct StageState {
+  std::string stage;
+  std::vector<BodySnapshot> bodies;
+};
+
 class EngineRun {
  public:
   virtual ~EngineRun() = default;
@@ -65,6 +72,13 @@ class EngineRun {
   virtual bool has_contacts() const { return false; }
   // The contacts found in the last step, in the engine's order.
   virtual std::vector<ContactSnapshot> contacts() const { return {}; }
+  // Steps one frame and returns every body's state after each of its stages
+  // (docs/SPEC.md 7.2), in order; the frame's bits are step()'s. An engine
+  // that cannot stop between stages (gpu) steps and returns nothing.
+  virtual std::vector<StageState> step_stages() {
+    step();
+    return {};
+  }
   // The engine's snapshot (docs/SNAPSHOTS.md); the CPU engines have them, the
   // others throw std::invalid_argument.
   // Inline: the GPU engine's library derives from EngineRun without linking this one.
@@ -120,6 +134,7 @@ class WorldRun final : public EngineRun {
   std::string name() const override { return Num<T>::kName; }
   std::string description() const override;
   void step() override { world_.step(); }
+  std::vector<StageState> step_stages() override;
   int frame() const override { return world_.frame(); }
   int body_count() const override { return static_cast<int>(world_.bodies().size()); }
   BodySnapshot body(int i) const override;
