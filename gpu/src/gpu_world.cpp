@@ -7,8 +7,12 @@
 
 #include "lockstep/gpu/formula_cases.hpp"
 #include "lockstep/gpu/gpu_engine.hpp"
+#include "gpu_snapshot.hpp"
 #include "lockstep/gpu/soa.hpp"
+#include "lockstep/scene_limits.hpp"
 #include "pipeline_base.hpp"
+#include "snapshot_bytes.hpp"
+#include "snapshot_scene.hpp"
 
 namespace lockstep {
 namespace gpu {
@@ -70,6 +74,11 @@ std::unique_ptr<PipelineBase> make_pipeline(const InitialState& s, const GpuOpti
 
 struct GpuWorld::Impl {
   std::unique_ptr<PipelineBase> pipeline;
+  Scene scene;
+  GpuOptions options;
+  std::vector<std::uint8_t> scene_section;  // the snapshot's scene section (snapshot_scene.hpp)
+  std::uint64_t constants_hash = 0;
+  InitialState shape;  // the scene's initial state with every body at the origin: what a snapshot is checked against
   HostState mirror;
   int mirror_frame = -1;
   std::vector<F4> half, inert;  // constants: half extents (w: e), inverse inertia (w: mu)
@@ -83,8 +92,37 @@ struct GpuWorld::Impl {
   }
 };
 
+namespace {
+
+// The scene as a snapshot's scene section holds it: every body at the origin, at rest.
+Scene at_origin(Scene scene) {
+  for (BodyDesc& b : scene.bodies) {
+    b.position = {};
+    b.orientation = {};
+    b.velocity = {};
+    b.angular_velocity = {};
+    b.asleep = false;
+  }
+  return scene;
+}
+
+int imm_stride_of(const InitialState& s) { return (s.ground_on ? 8 : 0) + 9 * static_cast<int>(s.sdf_grids.size()); }
+
+[[noreturn]] void foreign(SnapshotNumber number) {
+  throw SnapshotError(std::string("a snapshot of the ") + snapshot_number_name(number) +
+                          " engine cannot be loaded into the gpu engine",
+                      "header.number_type");
+}
+
+}  // namespace
+
 GpuWorld::GpuWorld(const Scene& scene, const GpuOptions& options) : impl_(std::make_unique<Impl>()) {
   const InitialState s = make_initial_state(scene);
+  impl_->scene = scene;
+  impl_->options = options;
+  impl_->scene_section = snap::encode_scene_section(scene);
+  impl_->constants_hash = snap::constants_hash(scene.constants);
+  impl_->shape = make_initial_state(at_origin(scene));
   impl_->half = s.half;
   impl_->inert = s.inert;
   impl_->gravity = scene.constants.gravity;
@@ -102,6 +140,82 @@ std::string GpuWorld::description() const { return impl_->pipeline->description(
 const StageCounters& GpuWorld::counters() const { return impl_->pipeline->counters(); }
 StageTimes GpuWorld::stage_times() const { return impl_->pipeline->stage_times(); }
 void GpuWorld::reset_stage_times() { impl_->pipeline->reset_stage_times(); }
+
+const Scene& GpuWorld::scene() const { return impl_->scene; }
+bool GpuWorld::jacobi() const { return impl_->options.pair_solver == GpuOptions::PairSolver::kJacobi; }
+
+std::vector<std::uint8_t> GpuWorld::save_state() const {
+  std::vector<std::uint8_t> out;
+  save_state(out);
+  return out;
+}
+
+void GpuWorld::save_state(std::vector<std::uint8_t>& out) const {
+  GpuState s;
+  impl_->pipeline->save(s);
+  out.clear();
+  snap::Writer w(out);
+  snap::write_header(w, SnapshotNumber::kGpu, static_cast<std::uint32_t>(s.pos.size()), impl_->constants_hash,
+                     static_cast<std::uint32_t>(s.frame));
+  w.bytes(impl_->scene_section.data(), impl_->scene_section.size());
+  write_gpu_state(out, s, jacobi() ? kSnapshotJacobi : 0, impl_->shape.oriented, impl_->pipeline->imm_stride());
+  snap::finish(out);
+}
+
+std::unique_ptr<GpuWorld> GpuWorld::load_state(const std::uint8_t* data, std::size_t size, const GpuOptions& options) {
+  const SnapshotInfo info = read_snapshot_info(data, size);
+  if (info.number != SnapshotNumber::kGpu) foreign(info.number);
+  snap::Reader r(data + kSnapshotHeaderSize, size - kSnapshotHeaderSize - kSnapshotChecksumSize);
+  Scene scene = snap::read_scene_section(r, info.body_count);
+  if (snap::constants_hash(scene.constants) != info.constants_hash)
+    throw SnapshotError("corrupt: the constants do not match the header's constants hash", "header.constants_hash");
+  try {
+    validate_scene_for("float", scene);
+  } catch (const SceneError& e) {
+    throw SnapshotError(std::string("the scene section cannot run on the gpu engine: ") + e.what(), "scene." + e.field);
+  }
+  const InitialState shape = make_initial_state(scene);
+  std::uint8_t opts = 0;
+  const GpuState st = read_gpu_state(data + kSnapshotHeaderSize + r.pos(), r.left(), shape, imm_stride_of(shape),
+                                     info.frame, opts);
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+    BodyDesc& d = scene.bodies[i];
+    const F4 p = st.pos[i], q = st.rot[i], v = st.vel[i], w = st.ang[i];
+    d.position = {p.x, p.y, p.z};
+    d.orientation = {q.x, q.y, q.z, q.w};
+    d.velocity = {v.x, v.y, v.z};
+    d.angular_velocity = {w.x, w.y, w.z};
+    d.asleep = (st.flags[i] & kFlagAsleep) != 0;
+  }
+  GpuOptions o = options;
+  o.pair_solver = (opts & kSnapshotJacobi) ? GpuOptions::PairSolver::kJacobi : GpuOptions::PairSolver::kColoured;
+  auto world = std::make_unique<GpuWorld>(scene, o);
+  world->impl_->pipeline->load(st);
+  world->impl_->mirror_frame = -1;
+  return world;
+}
+
+void GpuWorld::restore_state(const std::uint8_t* data, std::size_t size) {
+  const SnapshotInfo info = read_snapshot_info(data, size);
+  if (info.number != SnapshotNumber::kGpu) foreign(info.number);
+  const std::vector<std::uint8_t>& section = impl_->scene_section;
+  const std::size_t at = kSnapshotHeaderSize + section.size();
+  if (info.body_count == static_cast<std::uint32_t>(body_count()) && info.constants_hash == impl_->constants_hash &&
+      size >= at + kSnapshotChecksumSize && std::memcmp(data + kSnapshotHeaderSize, section.data(), section.size()) == 0) {
+    std::uint8_t opts = 0;
+    const GpuState st = read_gpu_state(data + at, size - at - kSnapshotChecksumSize, impl_->shape,
+                                       impl_->pipeline->imm_stride(), info.frame, opts);
+    if (((opts & kSnapshotJacobi) != 0) != jacobi())
+      throw SnapshotError(std::string("a snapshot of the ") + ((opts & kSnapshotJacobi) ? "gpu-jacobi" : "gpu") +
+                              " engine cannot be restored into the " + (jacobi() ? "gpu-jacobi" : "gpu") + " engine",
+                          "gpu.options");
+    impl_->pipeline->load(st);
+    impl_->mirror_frame = -1;
+    return;
+  }
+  std::unique_ptr<GpuWorld> fresh = load_state(data, size, impl_->options);
+  impl_ = std::move(fresh->impl_);
+}
 
 BodySnapshot GpuWorld::body(int i) const {
   const HostState& s = impl_->state();
@@ -161,7 +275,8 @@ namespace {
 
 class GpuRun final : public EngineRun {
  public:
-  GpuRun(const Scene& scene, bool jacobi, bool quiet) : world_(scene, options(jacobi, quiet)), jacobi_(jacobi) {}
+  GpuRun(const Scene& scene, bool jacobi, bool quiet)
+      : owned_(std::make_unique<gpu::GpuWorld>(scene, options(jacobi, quiet))), world_(*owned_), jacobi_(jacobi) {}
   std::string name() const override { return jacobi_ ? "gpu-jacobi" : "gpu"; }
   std::string description() const override {
     return jacobi_ ? world_.description() + ", Jacobi pair solver" : world_.description();
@@ -173,6 +288,9 @@ class GpuRun final : public EngineRun {
   std::uint64_t state_hash() const override { return world_.state_hash(); }
   double energy() const override { return world_.energy(); }
   StageCounters counters() const override { return world_.counters(); }
+  std::vector<std::uint8_t> save_state() const override { return world_.save_state(); }
+  // A world loaded from a snapshot (resume_gpu_engine).
+  GpuRun(std::unique_ptr<gpu::GpuWorld> world, bool jacobi) : owned_(std::move(world)), world_(*owned_), jacobi_(jacobi) {}
 
  private:
   static gpu::GpuOptions options(bool jacobi, bool quiet) {
@@ -181,7 +299,8 @@ class GpuRun final : public EngineRun {
     if (jacobi) o.pair_solver = gpu::GpuOptions::PairSolver::kJacobi;
     return o;
   }
-  gpu::GpuWorld world_;
+  std::unique_ptr<gpu::GpuWorld> owned_;  // a world loaded from a snapshot
+  gpu::GpuWorld& world_;
   bool jacobi_;
 };
 
@@ -189,6 +308,15 @@ class GpuRun final : public EngineRun {
 
 std::unique_ptr<EngineRun> make_gpu_engine(const Scene& scene, bool jacobi, bool quiet) {
   return std::make_unique<GpuRun>(scene, jacobi, quiet);
+}
+
+ResumedEngine resume_gpu_engine(const std::vector<std::uint8_t>& bytes, bool quiet) {
+  gpu::GpuOptions o;
+  o.quiet = quiet;
+  std::unique_ptr<gpu::GpuWorld> world = gpu::GpuWorld::load_state(bytes.data(), bytes.size(), o);
+  Scene scene = world->scene();
+  const bool jacobi = world->jacobi();
+  return {std::make_unique<GpuRun>(std::move(world), jacobi), std::move(scene)};
 }
 
 }  // namespace lockstep

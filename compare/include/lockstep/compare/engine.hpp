@@ -116,9 +116,9 @@ void set_quiet_engines(bool quiet);
 // "host build only (no CUDA)", or "not built".
 std::string gpu_build_description();
 
-// A CPU engine resumed from a snapshot: World<T>::load_state on the number
-// type the snapshot's header names, and the loaded world's scene. Throws
-// SnapshotError for a bad snapshot.
+// An engine resumed from a snapshot: World<T>::load_state on the number type
+// the snapshot's header names (GpuWorld::load_state for the gpu engine's),
+// and the loaded world's scene. Throws SnapshotError for a bad snapshot.
 struct ResumedEngine {
   std::unique_ptr<EngineRun> engine;
   Scene scene;
