@@ -757,8 +757,14 @@ void Pipeline<B>::save(GpuState& s) {
   if (oriented_) down(man, man_[p], un * static_cast<std::size_t>(stride));
   else down(pair, pair_[p], un * static_cast<std::size_t>(stride));
   be_.sync();
+  // A ground corner's record is the last frame's only when its mask bit is
+  // set (ContactsK writes the corners in contact); the others are not read.
   s.imm.reserve(un * per);
-  for (const ContactRecord& r : imm) s.imm.push_back(r.a);
+  for (std::size_t e = 0; e < imm.size(); ++e) {
+    const int corner = static_cast<int>(e % per);
+    const bool stale = corner < sc_.ground_slots() && ((s.ground_mask[e / per] >> corner) & 1) == 0;
+    s.imm.push_back(stale ? F4{} : imm[e].a);
+  }
   for (std::size_t k = 0; k < un; ++k) {
     for (int e = 0; e < count[k]; ++e) {
       const std::size_t t = k * static_cast<std::size_t>(stride) + static_cast<std::size_t>(e);

@@ -1,0 +1,169 @@
+// The GPU engine's snapshots (docs/SNAPSHOTS.md "The GPU engine"), host
+// build: a world restored from a snapshot steps, frame for frame, to the
+// hashes of the world that was never interrupted, and ends with the same
+// snapshot bytes; restoring into a world at another frame (rollback) and
+// loading a world from the bytes alone both do; bad snapshots (truncated,
+// corrupt, foreign, inconsistent behind a good checksum) are refused with a
+// SnapshotError naming the field.
+#include <gtest/gtest.h>
+#include <rapidcheck.h>
+#include <rapidcheck/gtest.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "../../reference/src/snapshot_bytes.hpp"
+#include "../../reference/src/snapshot_scene.hpp"
+#include "lockstep/builtin_scenes.hpp"
+#include "lockstep/gpu/gpu_engine.hpp"
+#include "reference/snapshot_scenes.hpp"
+
+namespace lockstep::test {
+namespace {
+
+using gpu::GpuOptions;
+using gpu::GpuWorld;
+
+GpuOptions host(bool jacobi = false) {
+  GpuOptions o;
+  o.backend = gpu::Backend::kHost;
+  o.quiet = true;
+  if (jacobi) o.pair_solver = GpuOptions::PairSolver::kJacobi;
+  return o;
+}
+
+// `w` saved, then resumed twice (restore_state into `other`, a world of the
+// same scene at another frame, and load_state from the bytes alone): each
+// steps `frames` frames to w's hashes and ends with w's snapshot bytes.
+::testing::AssertionResult resumes(GpuWorld& w, GpuWorld& other, int frames) {
+  const std::vector<std::uint8_t> bytes = w.save_state();
+  other.restore_state(bytes.data(), bytes.size());
+  std::unique_ptr<GpuWorld> loaded = GpuWorld::load_state(bytes.data(), bytes.size(), host());
+  if (other.save_state() != bytes) return ::testing::AssertionFailure() << "restore_state then save_state: other bytes";
+  if (loaded->save_state() != bytes) return ::testing::AssertionFailure() << "load_state then save_state: other bytes";
+  for (int f = 0; f < frames; ++f) {
+    w.step();
+    other.step();
+    loaded->step();
+    if (other.state_hash() != w.state_hash())
+      return ::testing::AssertionFailure() << "restored: hash differs at frame " << w.frame();
+    if (loaded->state_hash() != w.state_hash())
+      return ::testing::AssertionFailure() << "loaded: hash differs at frame " << w.frame();
+  }
+  const std::vector<std::uint8_t> end = w.save_state();
+  if (other.save_state() != end) return ::testing::AssertionFailure() << "restored: the final snapshots differ";
+  if (loaded->save_state() != end) return ::testing::AssertionFailure() << "loaded: the final snapshots differ";
+  return ::testing::AssertionSuccess();
+}
+
+TEST(GpuSnapshot, BuiltinScenesResume) {
+  for (const char* name : {"stack5", "pyramid", "bowl", "tip_corner", "terrain", "bounce", "drop"}) {
+    const Scene scene = *builtin_scene(name);
+    for (int save : {0, 1, 7, 25}) {
+      GpuWorld w(scene, host());
+      for (int f = 0; f < save; ++f) w.step();
+      GpuWorld other(scene, host());
+      for (int f = 0; f < 3; ++f) other.step();
+      EXPECT_TRUE(resumes(w, other, 40)) << name << " saved at frame " << save;
+    }
+  }
+}
+
+TEST(GpuSnapshot, JacobiSolverAndPileResume) {
+  GpuWorld w(*builtin_scene("pyramid"), host(true));
+  for (int f = 0; f < 12; ++f) w.step();
+  GpuWorld other(*builtin_scene("pyramid"), host(true));
+  EXPECT_TRUE(resumes(w, other, 30));
+  const std::vector<std::uint8_t> bytes = w.save_state();
+  EXPECT_TRUE(GpuWorld::load_state(bytes.data(), bytes.size(), host())->jacobi());
+  GpuWorld coloured(*builtin_scene("pyramid"), host());
+  try {
+    coloured.restore_state(bytes.data(), bytes.size());
+    ADD_FAILURE() << "a gpu-jacobi snapshot restored into the gpu engine";
+  } catch (const SnapshotError& e) {
+    EXPECT_NE(std::string(e.what()).find("gpu-jacobi engine cannot be restored into the gpu engine"), std::string::npos);
+  }
+  Scene pile = *builtin_scene("pile1000");
+  GpuWorld p(pile, host());
+  for (int f = 0; f < 45; ++f) p.step();
+  GpuWorld q(pile, host());
+  EXPECT_TRUE(resumes(p, q, 15));
+}
+
+RC_GTEST_PROP(GpuSnapshotProperty, RandomScenesResume, ()) {
+  const Scene scene = *random_scene();
+  const int frames = *rc::gen::inRange(1, 201);
+  const int save = *rc::gen::inRange(0, frames + 1);
+  const int other_frames = *rc::gen::inRange(0, 20);
+  try {
+    GpuWorld w(scene, host());
+    GpuWorld other(scene, host());
+    for (int f = 0; f < save; ++f) w.step();
+    for (int f = 0; f < other_frames; ++f) other.step();
+    const auto r = resumes(w, other, frames - save);
+    RC_LOG() << r.message() << "\n";
+    RC_ASSERT(static_cast<bool>(r));
+  } catch (const RunError&) {
+    RC_DISCARD("the run stopped (RunError)");
+  }
+}
+
+std::string refusal(const std::vector<std::uint8_t>& bytes) {
+  try {
+    (void)GpuWorld::load_state(bytes.data(), bytes.size(), host());
+  } catch (const SnapshotError& e) {
+    return std::string(e.field) + " | " + e.what();
+  }
+  return "accepted";
+}
+
+// The bytes with the checksum made right again (a corruption that only the
+// checks behind the checksum can find).
+std::vector<std::uint8_t> resealed(std::vector<std::uint8_t> b) {
+  b.resize(b.size() - kSnapshotChecksumSize);
+  snap::finish(b);
+  return b;
+}
+
+TEST(GpuSnapshot, BadSnapshotsAreRefused) {
+  GpuWorld w(*builtin_scene("pyramid"), host());
+  for (int f = 0; f < 20; ++f) w.step();
+  const std::vector<std::uint8_t> good = w.save_state();
+  EXPECT_EQ(refusal(good), "accepted");
+  for (std::size_t n = 0; n < good.size(); ++n)
+    EXPECT_NE(refusal(std::vector<std::uint8_t>(good.begin(), good.begin() + static_cast<long>(n))), "accepted") << n;
+  for (std::size_t i = 0; i < good.size(); i += 7) {
+    std::vector<std::uint8_t> b = good;
+    b[i] ^= 0x10;
+    EXPECT_NE(refusal(b), "accepted") << "byte " << i;
+  }
+  // Behind a good checksum: every byte of the engine's part changed, resealed:
+  // refused or loaded, never undefined behaviour (ASan and UBSan in CI).
+  const std::size_t engine_part = kSnapshotHeaderSize + snap::encode_scene_section(*builtin_scene("pyramid")).size();
+  int refused = 0;
+  for (std::size_t i = engine_part; i + kSnapshotChecksumSize < good.size(); ++i) {
+    std::vector<std::uint8_t> b = good;
+    b[i] ^= 0xff;
+    refused += refusal(resealed(b)) != "accepted" ? 1 : 0;
+  }
+  EXPECT_GT(refused, 0);
+  // A snapshot of another engine, and the GPU engine's into World<float>.
+  World<float> f(*builtin_scene("pyramid"));
+  const std::vector<std::uint8_t> cpu = f.save_state();
+  EXPECT_NE(refusal(cpu).find("a snapshot of the float engine cannot be loaded into the gpu engine"), std::string::npos);
+  try {
+    (void)World<float>::load_state(good);
+    ADD_FAILURE() << "a gpu snapshot loaded into World<float>";
+  } catch (const SnapshotError& e) {
+    EXPECT_NE(std::string(e.what()).find("a snapshot of the gpu engine cannot be loaded into the float engine"), std::string::npos);
+  }
+  // The awake list naming a body twice (the first awake body's entry).
+  std::vector<std::uint8_t> b = good;
+  b.push_back(0);  // trailing bytes
+  EXPECT_NE(refusal(resealed(b)).find("bytes after the counters"), std::string::npos);
+  EXPECT_NE(refusal(std::vector<std::uint8_t>(good.begin(), good.end() - 1)), "accepted");
+}
+
+}  // namespace
+}  // namespace lockstep::test
