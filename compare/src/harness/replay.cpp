@@ -3,6 +3,7 @@
 // that differs: frame (the hashes), body and field (the states at that
 // frame), stage (the frame re-run stage by stage on both sides).
 #include "lockstep/compare/replay.hpp"
+#include "lockstep/compare/world_inputs.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -18,23 +19,11 @@ namespace lockstep::compare {
 namespace {
 
 template <class T>
-bool apply_to_world(EngineRun& e, const Input& in) {
+bool apply_to(EngineRun& e, const Input& in) {
   auto* run = dynamic_cast<WorldRun<T>*>(&e);
   if (run == nullptr) return false;
-  World<T>& w = run->world();
-  const auto i = static_cast<int>(in.id.slot);
-  if (in.id.generation != 0 || i < 0 || i >= static_cast<int>(w.bodies().size()))
-    throw std::invalid_argument("input of frame " + std::to_string(in.frame) + ": body " + std::to_string(in.id.slot) +
-                                " does not exist");
-  auto v = [](const Vec3d& x) { return Vec3<T>{Num<T>::from_double(x.x), Num<T>::from_double(x.y), Num<T>::from_double(x.z)}; };
-  switch (in.kind) {
-    case InputKind::set_velocity: w.set_velocity(i, v(in.a), v(in.b)); return true;
-    case InputKind::wake: w.wake(i); return true;
-    default:
-      throw std::invalid_argument(std::string("input kind ") + input_kind_name(in.kind) +
-                                  ": this build's engines take set_velocity and wake (the other inputs come with "
-                                  "World<T>::apply, issue 32)");
-  }
+  apply_to_world(run->world(), in);
+  return true;
 }
 
 // The fields compared, in order.
@@ -96,8 +85,7 @@ std::string value_text(double v) {
 }  // namespace
 
 void apply_input(EngineRun& e, const Input& in) {
-  if (apply_to_world<Q16>(e, in) || apply_to_world<float>(e, in) || apply_to_world<double>(e, in) ||
-      apply_to_world<Mp>(e, in))
+  if (apply_to<Q16>(e, in) || apply_to<float>(e, in) || apply_to<double>(e, in) || apply_to<Mp>(e, in))
     return;
   throw std::invalid_argument("the " + e.name() + " engine takes no run-time inputs in this build (input of frame " +
                               std::to_string(in.frame) + ", " + input_kind_name(in.kind) + ")");
