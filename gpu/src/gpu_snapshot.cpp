@@ -140,6 +140,11 @@ void write_gpu_state(std::vector<std::uint8_t>& out, const GpuState& s, std::uin
       }
     }
   }
+  // The id table, as World<T>'s snapshots write it.
+  w.varint(s.generations.size());
+  for (std::uint32_t g : s.generations) w.varint(g);
+  if (!s.generations.empty())
+    for (std::uint32_t k : s.slot_of_body) w.varint(k);
   snap::each_counter(s.counters, [&w](std::uint64_t x) { w.varint(x); });
 }
 
@@ -276,6 +281,28 @@ GpuState read_gpu_state(const std::uint8_t* data, std::size_t size, const Initia
       }
     }
     s.nbr_begin.push_back(static_cast<int>(s.nbr.size()));
+  }
+  const std::uint64_t id_slots = in.r.varint("ids.slots");
+  if (id_slots != 0) {
+    if (id_slots < n || id_slots > in.r.left())
+      refuse("ids.slots", std::to_string(id_slots) + " slots for " + std::to_string(n) +
+                              " bodies (at least one slot per body, one byte per slot)");
+    s.generations.resize(static_cast<std::size_t>(id_slots));
+    for (std::uint32_t& g : s.generations) {
+      const std::uint64_t v = in.r.varint("ids.generation");
+      if (v > UINT32_MAX) refuse("ids.generation", std::to_string(v) + " is beyond 2^32 - 1");
+      g = static_cast<std::uint32_t>(v);
+    }
+    std::vector<char> used(static_cast<std::size_t>(id_slots), 0);
+    s.slot_of_body.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::uint64_t k = in.r.varint("ids.slot");
+      if (k >= id_slots || used[static_cast<std::size_t>(k)])
+        refuse("ids.slot[" + std::to_string(i) + "]", "slot " + std::to_string(k) + " is past the " + std::to_string(id_slots) +
+                                                        " slots or holds another body");
+      used[static_cast<std::size_t>(k)] = 1;
+      s.slot_of_body[i] = static_cast<std::uint32_t>(k);
+    }
   }
   snap::each_counter(s.counters, [&in](std::uint64_t& x) { x = in.r.varint("counters"); });
   if (in.r.left() != 0) refuse("end", std::to_string(in.r.left()) + " bytes after the counters");

@@ -40,6 +40,9 @@ struct GpuState {
   std::vector<int> man_count;                // oriented-box model, per entry: the points
   std::vector<int> man_feature;              // kSnapshotManifoldPoints per entry
   std::vector<F4> man_impulse;               // kSnapshotManifoldPoints per entry: {j_n, j_t}
+  // The id table (run-time inputs, lockstep/body_ids.hpp): empty when body i
+  // is slot i at generation 0; else per slot its generation, per body its slot.
+  std::vector<std::uint32_t> generations, slot_of_body;
 };
 
 }  // namespace lockstep::gpu

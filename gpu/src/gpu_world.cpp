@@ -10,6 +10,7 @@
 #include "gpu_snapshot.hpp"
 #include "lockstep/gpu/soa.hpp"
 #include "lockstep/scene_limits.hpp"
+#include "gpu_inputs.hpp"
 #include "pipeline_base.hpp"
 #include "snapshot_bytes.hpp"
 #include "snapshot_scene.hpp"
@@ -83,7 +84,11 @@ struct GpuWorld::Impl {
   int mirror_frame = -1;
   std::vector<F4> half, inert;  // constants: half extents (w: e), inverse inertia (w: mu)
   Vec3d gravity;
+  std::unique_ptr<GpuInputs> inputs;  // run-time inputs (gpu_inputs.hpp)
+  StageCounters base, total;          // base: the counters of the pipelines the inputs replaced
+  const std::vector<F4>& inert_now() const { return inputs->pending() ? inputs->inert() : inert; }
   const HostState& state() {
+    if (inputs->pending()) return inputs->state();
     if (mirror_frame != pipeline->frame()) {
       pipeline->download(mirror);
       mirror_frame = pipeline->frame();
@@ -108,6 +113,14 @@ Scene at_origin(Scene scene) {
 
 int imm_stride_of(const InitialState& s) { return (s.ground_on ? 8 : 0) + 9 * static_cast<int>(s.sdf_grids.size()); }
 
+// The id table a snapshot holds (identity when it holds none).
+BodyIds ids_of(const GpuState& s, std::size_t bodies) {
+  BodyIds ids;
+  ids.reset(bodies);
+  if (!s.generations.empty()) (void)ids.assign(s.generations, s.slot_of_body);  // checked by read_gpu_state
+  return ids;
+}
+
 [[noreturn]] void foreign(SnapshotNumber number) {
   throw SnapshotError(std::string("a snapshot of the ") + snapshot_number_name(number) +
                           " engine cannot be loaded into the gpu engine",
@@ -126,18 +139,66 @@ GpuWorld::GpuWorld(const Scene& scene, const GpuOptions& options) : impl_(std::m
   impl_->half = s.half;
   impl_->inert = s.inert;
   impl_->gravity = scene.constants.gravity;
+  impl_->inputs = std::make_unique<GpuInputs>(scene);
   impl_->pipeline = make_pipeline(s, options);
 }
 
 GpuWorld::~GpuWorld() = default;
 
-void GpuWorld::step() { impl_->pipeline->step(); }
+namespace {
+StageCounters sum(StageCounters a, const StageCounters& b) {
+  std::uint64_t* x = &a.integrate_velocity;
+  const std::uint64_t* y = &b.integrate_velocity;
+  static_assert(sizeof(StageCounters) == 16 * sizeof(std::uint64_t), "StageCounters is 16 counters");
+  for (int k = 0; k < 16; ++k) x[k] += y[k];
+  return a;
+}
+}  // namespace
+
+// The inputs since the last step: a new pipeline from their state (what
+// step() does first, and save_state before it saves).
+void GpuWorld::flush() const {
+  Impl& m = *impl_;
+  if (!m.inputs->pending()) return;
+  const int frame = m.pipeline->frame();
+  m.base = sum(m.base, m.pipeline->counters());
+  m.base.wakes += m.inputs->wakes();
+  const InitialState s = m.inputs->take_state();
+  m.half = s.half;
+  m.inert = s.inert;
+  GpuOptions quiet = m.options;
+  quiet.quiet = true;  // the first pipeline said which backend runs
+  m.pipeline = make_pipeline(s, quiet);
+  m.pipeline->set_frame(frame);
+  m.mirror_frame = -1;
+  // The body set may have changed: the snapshot's scene section with it.
+  m.scene = m.inputs->scene();
+  m.scene_section = snap::encode_scene_section(m.scene);
+  m.shape = make_initial_state(at_origin(m.scene));
+}
+
+void GpuWorld::step() {
+  flush();
+  impl_->pipeline->step();
+}
+BodyId GpuWorld::apply(const Input& input) { return impl_->inputs->apply(input, *impl_->pipeline); }
+int GpuWorld::index_of(BodyId id) const { return static_cast<int>(impl_->inputs->ids().require(id, "index_of")); }
+BodyId GpuWorld::id_of(int index) const {
+  if (index < 0) throw std::invalid_argument("id_of: index = " + std::to_string(index) + " is not a body index");
+  return impl_->inputs->ids().id_of(static_cast<std::size_t>(index));
+}
 int GpuWorld::frame() const { return impl_->pipeline->frame(); }
-int GpuWorld::body_count() const { return impl_->pipeline->body_count(); }
+int GpuWorld::body_count() const {
+  return impl_->inputs->pending() ? impl_->inputs->body_count() : impl_->pipeline->body_count();
+}
 int GpuWorld::awake_count() const { return impl_->pipeline->awake_count(); }
 bool GpuWorld::on_device() const { return impl_->pipeline->on_device(); }
 std::string GpuWorld::description() const { return impl_->pipeline->description(); }
-const StageCounters& GpuWorld::counters() const { return impl_->pipeline->counters(); }
+const StageCounters& GpuWorld::counters() const {
+  impl_->total = sum(impl_->base, impl_->pipeline->counters());
+  impl_->total.wakes += impl_->inputs->wakes();
+  return impl_->total;
+}
 StageTimes GpuWorld::stage_times() const { return impl_->pipeline->stage_times(); }
 void GpuWorld::reset_stage_times() { impl_->pipeline->reset_stage_times(); }
 
@@ -151,8 +212,15 @@ std::vector<std::uint8_t> GpuWorld::save_state() const {
 }
 
 void GpuWorld::save_state(std::vector<std::uint8_t>& out) const {
+  flush();
   GpuState s;
   impl_->pipeline->save(s);
+  s.counters = counters();
+  const BodyIds& ids = impl_->inputs->ids();
+  if (!ids.identity()) {
+    for (std::size_t k = 0; k < ids.slots(); ++k) s.generations.push_back(ids.generation(k));
+    for (std::size_t i = 0; i < ids.bodies(); ++i) s.slot_of_body.push_back(ids.slot_of(i));
+  }
   out.clear();
   snap::Writer w(out);
   snap::write_header(w, SnapshotNumber::kGpu, static_cast<std::uint32_t>(s.pos.size()), impl_->constants_hash,
@@ -192,11 +260,15 @@ std::unique_ptr<GpuWorld> GpuWorld::load_state(const std::uint8_t* data, std::si
   auto world = std::make_unique<GpuWorld>(scene, o);
   world->impl_->pipeline->load(st);
   world->impl_->mirror_frame = -1;
+  world->impl_->inputs->set_ids(ids_of(st, scene.bodies.size()));
   return world;
 }
 
 void GpuWorld::restore_state(const std::uint8_t* data, std::size_t size) {
   const SnapshotInfo info = read_snapshot_info(data, size);
+  // Inputs since the last step are rolled back with the rest: the pipeline
+  // (which they have not reached) is what the snapshot replaces.
+  if (impl_->inputs->pending()) impl_->inputs = std::make_unique<GpuInputs>(impl_->scene);
   if (info.number != SnapshotNumber::kGpu) foreign(info.number);
   const std::vector<std::uint8_t>& section = impl_->scene_section;
   const std::size_t at = kSnapshotHeaderSize + section.size();
@@ -211,6 +283,9 @@ void GpuWorld::restore_state(const std::uint8_t* data, std::size_t size) {
                           "gpu.options");
     impl_->pipeline->load(st);
     impl_->mirror_frame = -1;
+    impl_->inputs = std::make_unique<GpuInputs>(impl_->scene);
+    impl_->inputs->set_ids(ids_of(st, static_cast<std::size_t>(body_count())));
+    impl_->base = StageCounters{};
     return;
   }
   std::unique_ptr<GpuWorld> fresh = load_state(data, size, impl_->options);
@@ -260,7 +335,7 @@ double GpuWorld::energy() const {
     e -= m * (g.x * p.x + g.y * p.y + g.z * p.z);
     const Mat3<float> R = rotation_matrix(quat(s.rot[i]));
     const Vec3<float> wb = mat_transpose_mul(R, xyz(s.ang[i]));
-    const Vec3<float> inv_i = xyz(impl_->inert[i]);
+    const Vec3<float> inv_i = xyz(impl_->inert_now()[i]);
     for (int a = 0; a < 3; ++a) {
       const double ii = inv_i[a];
       if (ii > 0.0) e += 0.5 * static_cast<double>(wb[a]) * static_cast<double>(wb[a]) / ii;
@@ -282,6 +357,7 @@ class GpuRun final : public EngineRun {
     return jacobi_ ? world_.description() + ", Jacobi pair solver" : world_.description();
   }
   void step() override { world_.step(); }
+  void apply(const Input& input) override { world_.apply(input); }
   int frame() const override { return world_.frame(); }
   int body_count() const override { return world_.body_count(); }
   BodySnapshot body(int i) const override { return world_.body(i); }

@@ -117,7 +117,7 @@ class Pipeline final : public PipelineBase {
     be_.sync();
   }
 
-  void download(HostState& out) override {
+  void download(HostState& out, bool full = false) override {
     const auto n = static_cast<std::size_t>(n_);
     out.pos.resize(n); out.rot.resize(n); out.vel.resize(n); out.ang.resize(n);
     out.flags.resize(n); out.sleep_frame.resize(n);
@@ -127,6 +127,16 @@ class Pipeline final : public PipelineBase {
     be_.download(out.ang.data(), ang_[0].data(), n);
     be_.download(out.flags.data(), flags_.data(), n);
     be_.download(out.sleep_frame.data(), sleep_frame_.data(), n);
+    if (full) {
+      out.sleep_counter.resize(n);
+      be_.download(out.sleep_counter.data(), sleep_counter_.data(), n);
+      out.rest_count.assign(oriented_ ? n : 0, 0);
+      out.rest_body.assign(oriented_ ? kMaxRests * n : 0, -1);
+      if (oriented_) {
+        be_.download(out.rest_count.data(), rest_count_.data(), n);
+        be_.download(out.rest_body.data(), rest_body_.data(), kMaxRests * n);
+      }
+    }
     be_.sync();
   }
 

@@ -17,13 +17,19 @@ struct HostState {
   std::vector<F4> pos, rot, vel, ang;
   std::vector<std::uint8_t> flags;
   std::vector<int> sleep_frame;
+  // Run-time inputs (gpu_inputs.hpp) only, when download's `full` is set:
+  std::vector<int> sleep_counter;
+  std::vector<int> rest_count, rest_body;  // eq 108's records: per body their count, kMaxRests supporters each
 };
 
 class PipelineBase {
  public:
   virtual ~PipelineBase() = default;
   virtual void step() = 0;
-  virtual void download(HostState& out) = 0;
+  // The state; with `full`, the sleep counters and eq 108's supporters too.
+  virtual void download(HostState& out, bool full = false) = 0;
+  // A pipeline rebuilt for run-time inputs goes on from this frame.
+  void set_frame(int frame) { frame_ = frame; }
   // Snapshots (gpu_state.hpp): everything following frames read, downloaded
   // or uploaded by the same code on either backend. load expects a state
   // checked against this pipeline's scene (gpu_snapshot.cpp).

@@ -3,8 +3,8 @@
 // build, vectors/certify, steps and saves but never loads, so it needs
 // neither the scene loader nor the scene limits). The header and scene section are snapshot_scene.cpp's; this
 // file writes and reads the moving state: per body its pose, velocities and
-// sleep state with eq 108's records, then the warm-start cache (eq 96) and
-// the stage counters. Per-frame scratch (contacts, pairs, supports, the
+// sleep state with eq 108's records, then the warm-start cache (eq 96), the
+// id table and pending forces of the run-time inputs, and the stage counters. Per-frame scratch (contacts, pairs, supports, the
 // broadphase grid, ...) is rebuilt by every step before it is read and is
 // not saved (snapshot_test checks it).
 #pragma once
@@ -58,7 +58,9 @@ void World<T>::save_state(std::vector<std::uint8_t>& out) const {
   std::size_t records = 0;
   for (const std::vector<Rest>& r : rests_) records += r.size();
   const std::size_t bound = kSnapshotHeaderSize + scene_section_.size() + bodies_.size() * (1 + 13 * s + 2 * v) +
-                            records * (v + 9 * s) + v + warm_.size() * (3 * v + s) + 16 * v + kSnapshotChecksumSize;
+                            records * (v + 9 * s) + v + warm_.size() * (3 * v + s) +
+                            v + (ids_.slots() + ids_.bodies()) * v + v + forces_.size() * (v + 6 * s) + 16 * v +
+                            kSnapshotChecksumSize;
   out.clear();
   out.reserve(bound);
   snap::Writer w(out);
@@ -100,6 +102,25 @@ void World<T>::save_state(std::vector<std::uint8_t>& out) const {
     c.svarint(e.b);
     c.svarint(e.feature);
     C::put(c, e.j_n);
+  }
+  // The id table: 0 when slot i holds body i at generation 0 and there is no
+  // other slot (no body was ever destroyed); else the slots' generations and
+  // each body's slot.
+  if (ids_.identity()) {
+    c.varint(0);
+  } else {
+    c.varint(ids_.slots());
+    for (std::size_t k = 0; k < ids_.slots(); ++k) c.varint(ids_.generation(k));
+    for (std::size_t i = 0; i < ids_.bodies(); ++i) c.varint(ids_.slot_of(i));
+  }
+  // The forces pending for the next step (eq 121), ascending body index.
+  c.varint(forces_.size());
+  int prev_body = 0;
+  for (const PendingForce& f : forces_) {
+    c.varint(static_cast<std::uint64_t>(f.body - prev_body));
+    prev_body = f.body;
+    vec(f.f);
+    vec(f.tau);
   }
   snap::each_counter(counters_, [&c](std::uint64_t x) { c.varint(x); });
   out.resize(static_cast<std::size_t>(c.p - out.data()));

@@ -118,9 +118,66 @@ void World<T>::read_moving_state(snap::Reader& r, std::uint32_t frame, bool deri
         refuse(field, "the cache is not in strictly ascending (a, b, feature) order");
     }
   }
+  read_ids_and_forces(r);
   snap::each_counter(counters_, [&r](std::uint64_t& x) { x = r.varint("counters"); });
   if (r.left() != 0) refuse("end", std::to_string(r.left()) + " bytes after the counters");
   contacts_.clear();  // the last step's contacts are not state (stage 3 rebuilds them)
+}
+
+// The id table and the pending forces (docs/SNAPSHOTS.md "Then").
+template <class T>
+void World<T>::read_ids_and_forces(snap::Reader& r) {
+  using C = snap::NumCodec<T>;
+  using snap::refuse;
+  const std::size_t n = bodies_.size();
+  const std::uint64_t slots = r.varint("ids.slots");
+  if (slots == 0) {
+    ids_.reset(n);
+  } else {
+    if (slots < n || slots > r.left())
+      refuse("ids.slots", std::to_string(slots) + " slots for " + std::to_string(n) +
+                              " bodies (at least one slot per body, one byte per slot)");
+    std::vector<std::uint32_t> generations(static_cast<std::size_t>(slots)), slot_of_body(n);
+    for (std::size_t s = 0; s < generations.size(); ++s) {
+      const std::uint64_t g = r.varint("ids.generation");
+      if (g > UINT32_MAX) refuse("ids.generation[" + std::to_string(s) + "]", std::to_string(g) + " is beyond 2^32 - 1");
+      generations[s] = static_cast<std::uint32_t>(g);
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::uint64_t slot = r.varint("ids.slot");
+      if (slot >= slots) refuse("ids.slot[" + std::to_string(i) + "]", "slot " + std::to_string(slot) + " is past the " + std::to_string(slots) + " slots");
+      slot_of_body[i] = static_cast<std::uint32_t>(slot);
+    }
+    const std::string wrong = ids_.assign(std::move(generations), std::move(slot_of_body));
+    if (!wrong.empty()) refuse("ids", wrong);
+  }
+  const std::uint64_t count = r.varint("forces.count");
+  if (count > n || count > r.left()) refuse("forces.count", std::to_string(count) + " pending forces for " + std::to_string(n) + " bodies");
+  forces_.resize(static_cast<std::size_t>(count));
+  std::uint64_t body = 0;
+  auto get_vec = [&r](const char* field) {
+    Vec3<T> x;
+    x.x = C::get(r, field);
+    x.y = C::get(r, field);
+    x.z = C::get(r, field);
+    return x;
+  };
+  auto within = [](const Vec3<T>& x) {
+    return C::within(x.x, snap::kMaxImpulse) && C::within(x.y, snap::kMaxImpulse) && C::within(x.z, snap::kMaxImpulse);
+  };
+  for (std::size_t k = 0; k < forces_.size(); ++k) {
+    const std::string field = "forces[" + std::to_string(k) + "]";
+    const std::uint64_t step = r.varint("forces.body");
+    if (step >= n || (k > 0 && step == 0)) refuse(field, "body steps by " + std::to_string(step) + " (bodies: " + std::to_string(n) + ", ascending)");
+    body += step;
+    if (body >= n || !bodies_[static_cast<std::size_t>(body)].awake())
+      refuse(field, "body " + std::to_string(body) + " is not an awake dynamic body of the " + std::to_string(n));
+    PendingForce& f = forces_[k];
+    f.body = static_cast<int>(body);
+    f.f = get_vec("forces.f");
+    f.tau = get_vec("forces.tau");
+    if (!within(f.f) || !within(f.tau)) refuse(field, "a component is not finite or not within |x| < 2^31");
+  }
 }
 
 template <class T>

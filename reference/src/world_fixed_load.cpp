@@ -10,6 +10,7 @@ namespace lockstep {
 template World<Q16> World<Q16>::load_state(const std::uint8_t* data, std::size_t size);
 template void World<Q16>::restore_state(const std::uint8_t* data, std::size_t size);
 template void World<Q16>::read_moving_state(snap::Reader& r, std::uint32_t frame, bool derived_valid);
+template void World<Q16>::read_ids_and_forces(snap::Reader& r);
 template World<Q16> World<Q16>::load_state(const std::vector<std::uint8_t>& bytes);
 template void World<Q16>::restore_state(const std::vector<std::uint8_t>& bytes);
 }  // namespace lockstep

@@ -11,6 +11,7 @@
 
 #include "broad_phase.hpp"
 #include "contact_solver.hpp"
+#include "input_forces.hpp"
 #include "integrate.hpp"
 #include "lockstep/fixed/q16_vec.hpp"
 #include "narrow_phase.hpp"
@@ -25,6 +26,34 @@ namespace lockstep {
 namespace world_detail {
 template <class T>
 Vec3<T> to_vec(const Vec3d& v) { return {Num<T>::from_double(v.x), Num<T>::from_double(v.y), Num<T>::from_double(v.z)}; }
+
+// eq 10: a scene's (or an input's) orientation in T, normalised.
+template <class T>
+Quat<T> to_quat(const Quatd& q) {
+  auto n = [](double x) { return Num<T>::from_double(x); };
+  return normalize(Quat<T>{n(q.w), n(q.x), n(q.y), n(q.z)});
+}
+
+// A scene's body in T, as World(scene) builds it and create_body (eq 118)
+// adds it; R and the AABB are left to update_derived.
+template <class T>
+Body<T> body_from_desc(const BodyDesc& d, bool sleep_effect) {
+  auto n = [](double x) { return Num<T>::from_double(x); };
+  const T three = Num<T>::from_int(3);
+  Body<T> b;
+  b.p = to_vec<T>(d.position);
+  b.v = d.is_static ? Vec3<T>{} : to_vec<T>(d.velocity);
+  b.w = d.is_static ? Vec3<T>{} : to_vec<T>(d.angular_velocity);
+  b.q = to_quat<T>(d.orientation);  // eq 10
+  b.half = to_vec<T>(d.half_extents);
+  b.is_static = d.is_static;
+  b.asleep = d.asleep && !d.is_static && sleep_effect;  // without the sleep effect nothing sleeps
+  b.inv_mass = d.is_static ? T{} : Num<T>::from_int(1) / n(d.mass);
+  b.inv_inertia = d.is_static ? Vec3<T>{} : box_inverse_inertia(b.half, b.inv_mass, three);  // eqs 14-18
+  b.restitution = n(d.material.restitution);
+  b.friction = n(d.material.friction);
+  return b;
+}
 }  // namespace world_detail
 
 template <class T>
@@ -37,22 +66,9 @@ World<T>::World(const Scene& scene)
   ground_e_ = n(scene.ground.material.restitution);
   ground_mu_ = n(scene.ground.material.friction);
   check_faults(-1, "constants and ground");
-  const T three = Num<T>::from_int(3);
   bodies_.reserve(scene.bodies.size());
   for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
-    const BodyDesc& d = scene.bodies[i];
-    Body<T> b;
-    b.p = world_detail::to_vec<T>(d.position);
-    b.v = d.is_static ? Vec3<T>{} : world_detail::to_vec<T>(d.velocity);
-    b.w = d.is_static ? Vec3<T>{} : world_detail::to_vec<T>(d.angular_velocity);
-    b.q = normalize(Quat<T>{n(d.orientation.w), n(d.orientation.x), n(d.orientation.y), n(d.orientation.z)});  // eq 10
-    b.half = world_detail::to_vec<T>(d.half_extents);
-    b.is_static = d.is_static;
-    b.asleep = d.asleep && !d.is_static && scene.effects.sleep;  // without the sleep effect nothing sleeps
-    b.inv_mass = d.is_static ? T{} : Num<T>::from_int(1) / n(d.mass);
-    b.inv_inertia = d.is_static ? Vec3<T>{} : box_inverse_inertia(b.half, b.inv_mass, three);  // eqs 14-18
-    b.restitution = n(d.material.restitution);
-    b.friction = n(d.material.friction);
+    Body<T> b = world_detail::body_from_desc<T>(scene.bodies[i], scene.effects.sleep);
     update_derived(b);
     bodies_.push_back(b);
     check_faults(static_cast<int>(i), "initial state (inverse mass, inertia, orientation, AABB)");
@@ -86,6 +102,8 @@ World<T>::World(const Scene& scene)
   leaning_.assign(bodies_.size(), 0);
   settle_limit_.assign(bodies_.size(), T{});
   can_rest_.assign(bodies_.size(), 1);
+  // The id table: body i in slot i, generation 0 (docs/SPEC.md "Run-time inputs").
+  ids_.reset(bodies_.size());
 }
 
 template <class T>
@@ -121,6 +139,8 @@ World<T>& World<T>::operator=(const World& other) {
   sdf_mu_ = other.sdf_mu_;
   counters_ = other.counters_;
   frame_ = other.frame_;
+  ids_ = other.ids_;
+  forces_ = other.forces_;
   return *this;
 }
 
@@ -133,6 +153,7 @@ void World<T>::step(const StageObserver& after_stage) {
   auto after = [&](FrameStage s) { if (after_stage) after_stage(s, *this); };
   ++frame_;
   Num<T>::take_faults();
+  if (!forces_.empty()) apply_forces();                 // 0: eq 121 (run-time inputs)
   integrate_velocities();                               // 1: eqs 1, 5, 6, 13
   after(FrameStage::integrate_velocities);
   const bool oriented = scene_.pair_contacts == PairModel::kOrientedBox;

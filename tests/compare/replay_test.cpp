@@ -191,6 +191,7 @@ class PerturbedRun final : public EngineRun {
   std::string name() const override { return "fixed-perturbed"; }
   std::string description() const override { return "fixed, perturbed (test)"; }
   void step() override { world_.step(perturb()); }
+  void apply(const Input& input) override { world_.apply(input); }
   std::vector<StageState> step_stages() override {
     std::vector<StageState> out;
     const World<Q16>::StageObserver p = perturb();
@@ -237,7 +238,7 @@ class ReplayPerturbed : public ::testing::TestWithParam<Perturbation> {};
 
 TEST_P(ReplayPerturbed, NamesFrameBodyFieldAndStage) {
   const Perturbation p = GetParam();
-  const RunRecording rec = record("fixed", 60, 0, false);
+  const RunRecording rec = record("fixed", 60, 0);
   const EngineFactory make = [p](const std::string& name, const Scene& scene) -> std::unique_ptr<EngineRun> {
     if (name == "fixed-perturbed") return std::make_unique<PerturbedRun>(scene, p.frame, p.stage, p.body);
     return make_engine(name, scene);

@@ -120,6 +120,18 @@ std::vector<std::pair<std::string, std::vector<std::uint8_t>>> snapshot_seeds() 
   add("float_stack5_60", run(World<float>(*builtin_scene("stack5")), 60));
   add("double_stack5_60", run(World<double>(*builtin_scene("stack5")), 60));
   add("mp_drop_5", run(World<Mp>(*builtin_scene("drop")), 5));
+  // Run-time inputs (docs/SPEC.md "Run-time inputs"): a removed body (an id
+  // table with a free slot), a created one (a second shape) and a force
+  // pending for the next step.
+  World<Q16> inputs(*builtin_scene("stack5"));
+  for (int f = 0; f < 30; ++f) inputs.step();
+  inputs.destroy_body(inputs.id_of(1));
+  BodyDesc crate;
+  crate.half_extents = {0.75, 0.5, 0.25};
+  crate.position = {0.0, 8.0, 0.0};
+  inputs.create_body(crate);
+  inputs.add_force(inputs.id_of(2), {10.0, 0.0, 0.0}, {0.0, 1.0, 0.0});
+  add("fixed_stack5_inputs_30", inputs.save_state());
   gpu::GpuOptions o;
   o.backend = gpu::Backend::kHost;
   o.quiet = true;

@@ -16,7 +16,7 @@
 #include "../../reference/src/snapshot_bytes.hpp"
 #include "../../reference/src/snapshot_scene.hpp"
 #include "engine_types.hpp"
-#include "reference/snapshot_scenes.hpp"
+#include "random_scene_gen.hpp"
 #include "lockstep/builtin_scenes.hpp"
 #include "lockstep/snapshot.hpp"
 
@@ -230,10 +230,14 @@ TEST(SnapshotRefusal, ForeignSnapshotsNameWhatIsWrong) {
   World<double> dw(*builtin_scene("stack5"));
   EXPECT_THROW(dw.restore_state(good), SnapshotError);
 
-  std::vector<std::uint8_t> v2 = good;
-  v2[8] = 2;
-  reseal(v2);
-  EXPECT_NE(refusal<Q16>(v2).find("format version 2"), std::string::npos) << refusal<Q16>(v2);
+  std::vector<std::uint8_t> v3 = good;  // a later format (this build reads version 2)
+  v3[8] = 3;
+  reseal(v3);
+  EXPECT_NE(refusal<Q16>(v3).find("format version 3"), std::string::npos) << refusal<Q16>(v3);
+  std::vector<std::uint8_t> v1 = good;  // version 1 had no id table and no pending forces
+  v1[8] = 1;
+  reseal(v1);
+  EXPECT_NE(refusal<Q16>(v1).find("format version 1"), std::string::npos) << refusal<Q16>(v1);
 
   std::vector<std::uint8_t> magic = good;
   magic[0] = '{';
@@ -288,7 +292,7 @@ TEST(Snapshot, HeaderLayout) {
   for (int f = 0; f < 3; ++f) w.step();
   const std::vector<std::uint8_t> b = w.save_state();
   EXPECT_EQ(std::string(b.begin(), b.begin() + 8), "LKSTSNAP");
-  EXPECT_EQ(b[8] | b[9] << 8, 1);
+  EXPECT_EQ(b[8] | b[9] << 8, 2);
   EXPECT_EQ(b[10], 1);
   EXPECT_EQ(b[12], 5);
   std::uint64_t hash = 0, size = 0;
@@ -340,10 +344,10 @@ TEST(SnapshotSize, SettledPile1000WithinBudget) {
     }
     record_bytes += at - rests_from;
   }
-  const std::size_t warm_and_counters = b.size() - kSnapshotChecksumSize - at;
+  const std::size_t warm_and_counters = b.size() - kSnapshotChecksumSize - at;  // with the id table and pending forces (2 bytes)
   const double n = static_cast<double>(w.bodies().size());
   std::printf("pile1000 (fixed, frame %d, all asleep): %zu bytes = %.1f B/body: header %zu, scene section %zu, "
-              "moving state %zu (%.1f B/body), eq 108 records %zu in %zu bytes (%.1f B/body), warm cache and counters %zu, "
+              "moving state %zu (%.1f B/body), eq 108 records %zu in %zu bytes (%.1f B/body), warm cache, ids, forces and counters %zu, "
               "checksum %zu\n",
               w.frame(), b.size(), static_cast<double>(b.size()) / n, kSnapshotHeaderSize, section, moving,
               static_cast<double>(moving) / n, records, record_bytes, static_cast<double>(record_bytes) / n,

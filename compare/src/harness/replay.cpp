@@ -3,7 +3,6 @@
 // that differs: frame (the hashes), body and field (the states at that
 // frame), stage (the frame re-run stage by stage on both sides).
 #include "lockstep/compare/replay.hpp"
-#include "lockstep/compare/world_inputs.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -17,14 +16,6 @@
 namespace lockstep::compare {
 
 namespace {
-
-template <class T>
-bool apply_to(EngineRun& e, const Input& in) {
-  auto* run = dynamic_cast<WorldRun<T>*>(&e);
-  if (run == nullptr) return false;
-  apply_to_world(run->world(), in);
-  return true;
-}
 
 // The fields compared, in order.
 struct Field {
@@ -84,12 +75,7 @@ std::string value_text(double v) {
 
 }  // namespace
 
-void apply_input(EngineRun& e, const Input& in) {
-  if (apply_to<Q16>(e, in) || apply_to<float>(e, in) || apply_to<double>(e, in) || apply_to<Mp>(e, in))
-    return;
-  throw std::invalid_argument("the " + e.name() + " engine takes no run-time inputs in this build (input of frame " +
-                              std::to_string(in.frame) + ", " + input_kind_name(in.kind) + ")");
-}
+void apply_input(EngineRun& e, const Input& in) { e.apply(in); }
 
 RunRecorder::RunRecorder(const std::string& engine_name, const Scene& scene, std::vector<Input> inputs, int frames,
                          const RecordRunOptions& o) {

@@ -24,7 +24,7 @@ struct SnapshotError : std::runtime_error {
 };
 
 inline constexpr char kSnapshotMagic[8] = {'L', 'K', 'S', 'T', 'S', 'N', 'A', 'P'};
-inline constexpr std::uint16_t kSnapshotVersion = 1;
+inline constexpr std::uint16_t kSnapshotVersion = 2;
 inline constexpr std::size_t kSnapshotHeaderSize = 40;
 inline constexpr std::size_t kSnapshotChecksumSize = 8;
 

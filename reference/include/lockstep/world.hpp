@@ -7,8 +7,11 @@
 #include <functional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "lockstep/body_ids.hpp"
+#include "lockstep/input.hpp"
 #include "lockstep/math/vec.hpp"
 #include "lockstep/physics/params.hpp"
 #include "lockstep/physics/settle.hpp"
@@ -173,6 +176,52 @@ class World {
   // Replaces body i's velocities (and wakes it): what a game's input does.
   void set_velocity(int i, const Vec3<T>& v, const Vec3<T>& w);
 
+  // Run-time inputs (docs/SPEC.md "Run-time inputs", eqs 118-123): what a
+  // game does between two frames. Values are doubles converted to T as
+  // World(scene) converts a scene's. A body is named by its BodyId (stable
+  // across creations and removals); its index (bodies(), body(i), contacts)
+  // changes when a body before it is destroyed. Every call throws
+  // std::invalid_argument, naming the field, the value and a fix, for a stale
+  // or unknown id, a body description the scene loader would refuse or this
+  // number type cannot represent, or a value out of range; the world is then
+  // unchanged. An input on a static body that cannot move it (impulse,
+  // force, velocity, wake) has no effect.
+  //
+  // Applies `input` now (create: returns the new body's id; otherwise
+  // input.id). input.frame must be frame() + 1: an input of frame f is
+  // applied before the step that computes frame f.
+  BodyId apply(const Input& input);
+  // eq 118: appends a body (index bodies().size()) built as World(scene)
+  // builds a scene's body; its id takes the lowest free slot.
+  BodyId create_body(const BodyDesc& desc);
+  // eq 119: removes the body; the bodies after it move down one index (their
+  // order kept); the sleepers resting on it wake.
+  void destroy_body(BodyId id);
+  // eq 120: impulse J (N s) at the world point `point` (m): v += J/m,
+  // omega += I^-1 ((point - p) x J); wakes the body.
+  void apply_impulse(BodyId id, const Vec3d& J, const Vec3d& point);
+  // eq 121: force F (N) at the centre of mass and torque (N m) for the next
+  // step (summed over the calls before it); wakes the body.
+  void add_force(BodyId id, const Vec3d& F, const Vec3d& torque);
+  // eq 122: teleports the body (q normalised as the loader does); wakes it
+  // and the sleepers resting on it, drops its warm-start entries.
+  void set_pose(BodyId id, const Vec3d& p, const Quatd& q);
+  // eq 123: replaces the body's velocities and wakes it.
+  void set_velocity(BodyId id, const Vec3d& v, const Vec3d& w);
+  // 5.1 on the body.
+  void wake(BodyId id);
+  // The index of a live body; throws std::invalid_argument for a stale or
+  // unknown id.
+  int index_of(BodyId id) const;
+  // Whether id names a live body.
+  bool contains(BodyId id) const;
+  // The id of body i (0 <= i < bodies().size()).
+  BodyId id_of(int index) const;
+  // The id the next create_body will return.
+  BodyId next_id() const;
+  // The force and torque pending for the next step on body i (zero if none).
+  std::pair<Vec3<T>, Vec3<T>> pending_force(int index) const;
+
   // Snapshots (docs/SNAPSHOTS.md): the whole state the following frames
   // depend on (the scene's constant part, every body's pose, velocities and
   // sleep state, eq 108's records, the warm-start cache, the frame and the
@@ -220,6 +269,12 @@ class World {
   void check_faults(int body, const char* quantity);
   void check_finite();
   void read_moving_state(snap::Reader& r, std::uint32_t frame, bool derived_valid);  // snapshot.hpp
+  void read_ids_and_forces(snap::Reader& r);  // snapshot_load.hpp
+  // Run-time inputs (world_inputs.hpp).
+  void apply_forces();                          // stage 0 (eq 121)
+  void wake_resting_on(std::size_t i);          // eq 119: wakes the sleepers whose eq 108 records name body i
+  void wake_all_sleepers();                     // a static body changed: every sleeper wakes
+  void drop_warm(std::size_t i);                // eq 96: drops the cached impulses of body i
 
   Scene scene_;
   std::vector<std::uint8_t> scene_section_;  // the snapshot's scene section (snapshot_scene.hpp)
@@ -291,6 +346,11 @@ class World {
   std::vector<T> sdf_e_, sdf_mu_;
   StageCounters counters_;
   int frame_ = 0;
+  // Run-time inputs: the id table and the forces pending for the next step
+  // (eq 121), ascending body index.
+  BodyIds ids_;
+  struct PendingForce { int body; Vec3<T> f, tau; };
+  std::vector<PendingForce> forces_;
 };
 
 }  // namespace lockstep

@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "lockstep/input.hpp"
 #include "lockstep/scene.hpp"
 #include "lockstep/world.hpp"
 
@@ -82,6 +83,14 @@ class EngineRun {
   // The engine's snapshot (docs/SNAPSHOTS.md); the CPU engines have them, the
   // others throw std::invalid_argument.
   // Inline: the GPU engine's library derives from EngineRun without linking this one.
+  // Applies a run-time input now (lockstep/input.hpp, docs/SPEC.md "Run-time
+  // inputs"): input.frame must be frame() + 1. Every engine of
+  // engine_names() implements it; throws std::invalid_argument for a bad
+  // input (a stale id, a body the loader would refuse, ...). Inline, as
+  // save_state below.
+  virtual void apply(const Input& /*input*/) {
+    throw std::invalid_argument("the " + name() + " engine takes no run-time inputs");
+  }
   virtual std::vector<std::uint8_t> save_state() const {
     throw std::invalid_argument("the " + name() +
                                 " engine has no snapshots (the CPU engines fixed, float, double and mp have)");
@@ -135,6 +144,7 @@ class WorldRun final : public EngineRun {
   std::string description() const override;
   void step() override { world_.step(); }
   std::vector<StageState> step_stages() override;
+  void apply(const Input& input) override { world_.apply(input); }
   int frame() const override { return world_.frame(); }
   int body_count() const override { return static_cast<int>(world_.bodies().size()); }
   BodySnapshot body(int i) const override;

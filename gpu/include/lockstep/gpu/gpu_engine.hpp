@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "lockstep/compare/engine.hpp"
+#include "lockstep/input.hpp"
 #include "lockstep/scene.hpp"
 #include "lockstep/world.hpp"
 
@@ -123,7 +124,16 @@ class GpuWorld {
   StageTimes stage_times() const;
   void reset_stage_times();
 
-  // State of body i after the last step (downloaded once per frame).
+  // Run-time inputs (docs/GPU.md "Run-time inputs"): as World<T>::apply,
+  // with World<T>'s body order and ids; taken up by rebuilding the pipeline
+  // before the next step (without the warm-start cache and eq 108's
+  // records). Throws std::invalid_argument for a bad input.
+  BodyId apply(const Input& input);
+  int index_of(BodyId id) const;
+  BodyId id_of(int index) const;
+
+  // State of body i after the last step (downloaded once per frame), or as
+  // the inputs since left it.
   BodySnapshot body(int i) const;
   std::uint64_t state_hash() const;  // eq 92 over the IEEE binary64 bits, like World<float>
   double energy() const;             // (J), evaluated in double like World<float>
@@ -137,8 +147,10 @@ class GpuWorld {
   // engine's following frames read: per body its pose, velocities, AABB,
   // sleep state, growth and eq 108's records; the awake list in its order;
   // the last frame's contacts by slot with their impulses (the warm start,
-  // eq 96); the counters. Restoring and stepping gives the hashes the saved
-  // engine would have, on the host build and on the device (one code path).
+  // eq 96); the id table; the counters. Restoring and stepping gives the
+  // hashes the saved engine would have, on the host build and on the device
+  // (one code path). Inputs applied since the last step are taken up first,
+  // as the next step would (the pipeline is rebuilt from them).
   std::vector<std::uint8_t> save_state() const;
   void save_state(std::vector<std::uint8_t>& out) const;
   // A world from a snapshot alone (the pair solver is the snapshot's; the
@@ -151,6 +163,7 @@ class GpuWorld {
   void restore_state(const std::uint8_t* data, std::size_t size);
 
  private:
+  void flush() const;  // takes up the inputs since the last step (a new pipeline)
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

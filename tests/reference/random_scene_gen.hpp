@@ -1,7 +1,9 @@
-// Random scenes for the snapshot properties (snapshot_test.cpp on World<T>,
-// tests/gpu/gpu_snapshot_test.cpp on the GPU engine): 1-6 boxes dropped and
-// thrown, either pair model, sometimes a static slab or the SDF bowl,
-// sometimes some effects off.
+// RapidCheck generator of perturbed scenes for the snapshot and input
+// properties (snapshot_test.cpp, inputs_test.cpp): 1-6 boxes of random sizes
+// (0.25-0.75 m half extents), masses (0.5-4 kg), materials, tilts, offsets
+// and velocities stacked loosely on the ground, a tilted static slab or the
+// SDF bowl; either pair model; now and then random effects off. Values are
+// multiples of powers of two (exact in Q16.16).
 #pragma once
 #include <rapidcheck.h>
 

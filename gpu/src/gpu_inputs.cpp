@@ -1,0 +1,243 @@
+#include "gpu_inputs.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+#include "lockstep/input_check.hpp"
+#include "lockstep/scene_json.hpp"
+#include "lockstep/physics/aabb.hpp"
+#include "lockstep/physics/integrate.hpp"
+
+namespace lockstep::gpu {
+namespace {
+constexpr int kRests = 4;  // eq 108's records per body (oriented_stages.hpp kMaxRests)
+
+Vec3<float> to_vec(const Vec3d& v) {
+  return {Num<float>::from_double(v.x), Num<float>::from_double(v.y), Num<float>::from_double(v.z)};
+}
+bool finite3(const Vec3<float>& v) { return Num<float>::finite(v.x) && Num<float>::finite(v.y) && Num<float>::finite(v.z); }
+std::string body_text(std::size_t i, BodyId id) {
+  return "body " + std::to_string(i) + " (" + input_check::id_text(id.slot, id.generation) + ")";
+}
+}  // namespace
+
+// The host copy: the pipeline's state after its last step, with the
+// constants of every body. An input marks it dirty (a rebuild before the
+// next step) only once it is checked and applied, so that a refused input
+// changes nothing.
+void GpuInputs::begin(PipelineBase& pipeline) {
+  if (dirty_ || copy_frame_ == pipeline.frame()) return;
+  pipeline.download(edit_, true);
+  const InitialState s = make_initial_state(scene_);
+  half_ = s.half;
+  inert_ = s.inert;
+  if (edit_.rest_count.empty()) {  // the AABB model keeps no records
+    edit_.rest_count.assign(edit_.pos.size(), 0);
+    edit_.rest_body.assign(kRests * edit_.pos.size(), -1);
+  }
+  copy_frame_ = pipeline.frame();
+}
+
+void GpuInputs::wake(std::size_t i) {
+  if ((edit_.flags[i] & kFlagAsleep) == 0 || (edit_.flags[i] & kFlagStatic) != 0) return;
+  edit_.flags[i] = static_cast<std::uint8_t>(edit_.flags[i] & ~kFlagAsleep);
+  edit_.sleep_counter[i] = 0;
+  edit_.rest_count[i] = 0;
+  ++wakes_;
+}
+
+void GpuInputs::wake_resting_on(std::size_t i) {
+  for (std::size_t j = 0; j < edit_.flags.size(); ++j) {
+    if ((edit_.flags[j] & kFlagAsleep) == 0) continue;
+    bool on_i = false;
+    for (int r = 0; r < edit_.rest_count[j]; ++r) on_i = on_i || edit_.rest_body[kRests * j + static_cast<std::size_t>(r)] == static_cast<int>(i);
+    if (on_i) wake(j);
+  }
+}
+
+void GpuInputs::wake_all() {
+  for (std::size_t j = 0; j < edit_.flags.size(); ++j) wake(j);
+}
+
+void GpuInputs::erase(std::size_t k) {
+  const auto at = static_cast<std::ptrdiff_t>(k);
+  for (auto* v : {&edit_.pos, &edit_.rot, &edit_.vel, &edit_.ang, &half_, &inert_}) v->erase(v->begin() + at);
+  edit_.flags.erase(edit_.flags.begin() + at);
+  for (auto* v : {&edit_.sleep_frame, &edit_.sleep_counter, &edit_.rest_count}) v->erase(v->begin() + at);
+  edit_.rest_body.erase(edit_.rest_body.begin() + kRests * at, edit_.rest_body.begin() + kRests * (at + 1));
+  for (int& b : edit_.rest_body)
+    if (b > static_cast<int>(k)) --b;
+  scene_.bodies.erase(scene_.bodies.begin() + at);
+  std::erase_if(forces_, [k](const Force& f) { return f.body == static_cast<int>(k); });
+  for (Force& f : forces_)
+    if (f.body > static_cast<int>(k)) --f.body;
+  ids_.remove(k);
+}
+
+BodyId GpuInputs::apply(const Input& in, PipelineBase& pipeline) {
+  const int frame = pipeline.frame();
+  if (in.frame != frame + 1)
+    throw std::invalid_argument("apply: input.frame = " + std::to_string(in.frame) + " but the world is at frame " +
+                                std::to_string(frame) + ": an input of frame f is applied before the step that "
+                                "computes frame f; apply it when frame() == " + std::to_string(in.frame - 1));
+  if (in.kind == InputKind::create) {
+    if (scene_.bodies.size() >= kMaxSceneBodies)
+      throw std::invalid_argument("create_body: the world has " + std::to_string(scene_.bodies.size()) +
+                                  " bodies, the most a scene may hold; destroy one first");
+    input_check::body(scene_, in.body, "float", "create_body", "input.body");
+    begin(pipeline);
+    Scene one;  // the body alone, with the scene's constants and effects
+    one.constants = scene_.constants;
+    one.effects = scene_.effects;
+    one.bodies = {in.body};
+    const InitialState s = make_initial_state(one);  // World<float>'s body, term by term
+    edit_.pos.push_back(s.pos[0]); edit_.rot.push_back(s.rot[0]); edit_.vel.push_back(s.vel[0]);
+    edit_.ang.push_back(s.ang[0]); half_.push_back(s.half[0]); inert_.push_back(s.inert[0]);
+    edit_.flags.push_back(static_cast<std::uint8_t>(s.flags[0] & (scene_.effects.sleep ? 0xff : ~kFlagAsleep)));
+    edit_.sleep_frame.push_back(-1);
+    edit_.sleep_counter.push_back(0);
+    edit_.rest_count.push_back(0);
+    for (int r = 0; r < kRests; ++r) edit_.rest_body.push_back(-1);
+    scene_.bodies.push_back(in.body);
+    dirty_ = true;
+    return ids_.add();
+  }
+  const char* name = input_kind_name(in.kind);
+  const std::size_t i = ids_.require(in.id, name);
+  const std::string what = std::string(name) + " on " + body_text(i, in.id);
+  const bool is_static = (scene_.bodies[i].is_static);
+  switch (in.kind) {
+    case InputKind::destroy: {
+      begin(pipeline);
+      dirty_ = true;
+      if (is_static) wake_all();
+      else wake_resting_on(i);
+      erase(i);
+      break;
+    }
+    case InputKind::impulse: {
+      input_check::vector(in.a, input_check::kMaxImpulse, "N s", what, "input.a (J)", "give each component within +-1e6 N s");
+      input_check::vector(in.b, input_check::kMaxPoint, "m", what, "input.b (point)",
+                          "give a world point within +-32000 m (normally on or in the body)");
+      if (is_static) break;
+      begin(pipeline);
+      const F4 p = edit_.pos[i];
+      const Mat3<float> R = rotation_matrix(quat(edit_.rot[i]));
+      const Vec3<float> j = to_vec(in.a), r = to_vec(in.b) - xyz(p);
+      const Vec3<float> v = xyz(edit_.vel[i]) + j * p.w;
+      const Vec3<float> w = xyz(edit_.ang[i]) + apply_inverse_inertia(R, xyz(inert_[i]), cross(r, j));  // eqs 87, 90
+      if (!finite3(v) || !finite3(w))
+        throw std::invalid_argument(what + ": the body's velocity would leave the float engine's range; give a smaller impulse");
+      dirty_ = true;
+      wake(i);
+      edit_.vel[i] = f4(v, 0.0f);
+      edit_.ang[i] = f4(w, 0.0f);
+      edit_.sleep_counter[i] = 0;
+      break;
+    }
+    case InputKind::force: {
+      input_check::vector(in.a, input_check::kMaxForce, "N", what, "input.a (F)", "give each component within +-1e7 N");
+      input_check::vector(in.b, input_check::kMaxForce, "N m", what, "input.b (torque)", "give each component within +-1e7 N m");
+      if (is_static) break;
+      begin(pipeline);
+      dirty_ = true;
+      const int body = static_cast<int>(i);
+      auto it = std::lower_bound(forces_.begin(), forces_.end(), body, [](const Force& f, int x) { return f.body < x; });
+      if (it != forces_.end() && it->body == body) {
+        it->f = it->f + to_vec(in.a);
+        it->tau = it->tau + to_vec(in.b);
+      } else {
+        forces_.insert(it, Force{body, to_vec(in.a), to_vec(in.b)});
+      }
+      wake(i);
+      edit_.sleep_counter[i] = 0;
+      break;
+    }
+    case InputKind::set_pose: {
+      BodyDesc desc = scene_.bodies[i];
+      desc.position = in.a;
+      desc.orientation = in.q;
+      input_check::body(scene_, desc, "float", what, "input");
+      begin(pipeline);
+      dirty_ = true;
+      edit_.pos[i] = f4(to_vec(in.a), edit_.pos[i].w);
+      const auto n = [](double x) { return Num<float>::from_double(x); };
+      edit_.rot[i] = f4(normalize(Quat<float>{n(in.q.w), n(in.q.x), n(in.q.y), n(in.q.z)}));  // eq 10
+      if (is_static) {
+        wake_all();
+      } else {
+        wake_resting_on(i);
+        wake(i);
+        edit_.sleep_counter[i] = 0;
+      }
+      break;
+    }
+    case InputKind::set_velocity: {
+      if (is_static) {
+        input_check::vector(in.a, 1000.0, "m/s", what, "input.a (v)", "give each component within +-1000 m/s");
+        input_check::vector(in.b, 1000.0, "rad/s", what, "input.b (omega)", "give each component within +-1000 rad/s");
+        break;
+      }
+      BodyDesc desc = scene_.bodies[i];
+      desc.velocity = in.a;
+      desc.angular_velocity = in.b;
+      input_check::body(scene_, desc, "float", what, "input");
+      begin(pipeline);
+      dirty_ = true;
+      wake(i);
+      edit_.vel[i] = f4(to_vec(in.a), 0.0f);
+      edit_.ang[i] = f4(to_vec(in.b), 0.0f);
+      edit_.sleep_counter[i] = 0;
+      break;
+    }
+    case InputKind::wake: {
+      if (is_static) break;
+      begin(pipeline);
+      if ((edit_.flags[i] & kFlagAsleep) == 0) break;  // awake: nothing to do
+      dirty_ = true;
+      wake(i);
+      break;
+    }
+    default:
+      throw std::invalid_argument("apply: input.kind = " + std::to_string(static_cast<int>(in.kind)) +
+                                  " is not an InputKind");
+  }
+  return in.id;
+}
+
+// The rebuilt pipeline's state: the edited bodies, exactly (q is not
+// normalised again), and eq 121's pending forces.
+InitialState GpuInputs::take_state() {
+  Scene now = scene_;
+  for (std::size_t i = 0; i < now.bodies.size(); ++i) {
+    BodyDesc& d = now.bodies[i];
+    const F4 p = edit_.pos[i], v = edit_.vel[i], w = edit_.ang[i];
+    d.position = {p.x, p.y, p.z};  // float -> double -> float: exact
+    d.velocity = {v.x, v.y, v.z};
+    d.angular_velocity = {w.x, w.y, w.z};
+    d.asleep = (edit_.flags[i] & kFlagAsleep) != 0;
+  }
+  InitialState s = make_initial_state(now);
+  const float dt = s.P.dt;
+  for (std::size_t i = 0; i < now.bodies.size(); ++i) {
+    s.rot[i] = edit_.rot[i];
+    const Vec3<float> a = rotated_half_extents(rotation_matrix(quat(s.rot[i])), xyz(s.half[i]));  // eq 31
+    s.aabb[i] = f4(a, Num<float>::max(a.x, Num<float>::max(a.y, a.z)));
+    s.sleep_counter[i] = edit_.sleep_counter[i];
+    s.sleep_frame[i] = edit_.sleep_frame[i];
+  }
+  for (const Force& f : forces_) {  // eq 121, as World<T>'s stage 0
+    const auto i = static_cast<std::size_t>(f.body);
+    const Mat3<float> R = rotation_matrix(quat(s.rot[i]));
+    s.vel[i] = f4(xyz(s.vel[i]) + (f.f * dt) * s.pos[i].w, 0.0f);
+    s.ang[i] = f4(xyz(s.ang[i]) + apply_inverse_inertia(R, xyz(s.inert[i]), f.tau * dt), 0.0f);
+  }
+  forces_.clear();
+  dirty_ = false;
+  copy_frame_ = -1;
+  wakes_ = 0;
+  return s;
+}
+
+}  // namespace lockstep::gpu
