@@ -1,11 +1,17 @@
 // `lockstep view RUN... [--out FILE.html]`: the replay page of one or more
 // runs of one scene (trajectory CSVs written by `lockstep run`, with the run
-// record beside each): one self-contained HTML file (view.hpp).
+// record beside each): one self-contained HTML file (view.hpp). `lockstep
+// view FILE.rec.json` plays a recording (`lockstep run --record`): it replays
+// it, marks the inputs' frames and shows "DIVERGED at frame N" from the first
+// frame whose hash differs from the recorded one (docs/RECORDINGS.md).
 #include <algorithm>
 #include <cstdio>
+#include <fstream>
 #include <memory>
 
 #include "commands.hpp"
+#include "lockstep/compare/recording.hpp"
+#include "lockstep/compare/replay.hpp"
 #include "lockstep/compare/report.hpp"
 #include "lockstep/compare/tolerances.hpp"
 #include "lockstep/compare/view.hpp"
@@ -16,11 +22,85 @@ namespace {
 
 struct ViewArgs {
   std::vector<std::string> runs;
-  std::string out, title, tolerances;
+  std::string out, title, tolerances, engine;
   long long max_mb = 48;
 };
 
+// Whether the file is a recording ("format": "lockstep-recording" near its start).
+bool is_recording(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string head(256, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(in.gcount()));
+  return head.find(std::string("\"") + compare::kRecordingFormat + "\"") != std::string::npos;
+}
+
+// The page of a recording: its replay's trajectory on `engine`, the inputs'
+// frames, and where the replay's hashes leave the recorded ones.
+int view_recording(const ViewArgs& a) {
+  const std::string& path = a.runs.front();
+  compare::RunRecording rec;
+  try {
+    rec = compare::load_recording_file(path);
+  } catch (const compare::RecordingError& e) {
+    throw std::invalid_argument(std::string("RUN: ") + e.what());
+  }
+  for (const Input& in : rec.inputs)
+    if (in.kind == InputKind::create || in.kind == InputKind::destroy)
+      throw std::invalid_argument("RUN: " + path + ": its inputs create or remove bodies (frame " + std::to_string(in.frame) +
+                                  "); the page shows a fixed set of bodies: replay it with `lockstep replay " + path + "`");
+  const std::string engine_name = a.engine.empty() ? rec.engine : a.engine;
+  set_quiet_engines(true);
+  std::unique_ptr<EngineRun> engine = make_engine(engine_name, rec.scene);
+  const int frames = rec.frames();
+  const int bodies = static_cast<int>(rec.scene.bodies.size());
+  const int stride = compare::view_stride(frames, bodies, 1, static_cast<std::size_t>(a.max_mb) << 20);
+  compare::ViewRecorder recorder("replay on " + engine_name, engine_name, false, true);
+  recorder.add(*engine, true);
+  compare::ViewRecording shown;
+  shown.recorded_engine = rec.engine;
+  shown.engine = engine_name;
+  for (const Input& in : rec.inputs) shown.inputs.emplace_back(in.frame, input_kind_name(in.kind));
+  std::size_t next = 0;
+  for (int f = 1; f <= frames; ++f) {
+    for (; next < rec.inputs.size() && rec.inputs[next].frame == f; ++next) compare::apply_input(*engine, rec.inputs[next]);
+    engine->step();
+    if (shown.diverged_frame < 0 && engine->state_hash() != rec.hashes[static_cast<std::size_t>(f - 1)]) shown.diverged_frame = f;
+    recorder.add(*engine, f % stride == 0 || f == frames);
+  }
+  shown.note = "recording " + path + " (" + rec.engine + ", " + std::to_string(rec.inputs.size()) + " inputs) replayed on " +
+               engine_name + ": " +
+               (shown.diverged_frame < 0 ? "the hashes agree on all " + std::to_string(frames) + " frames"
+                                         : "DIVERGED at frame " + std::to_string(shown.diverged_frame) +
+                                               " (lockstep replay " + path + (a.engine.empty() ? "" : " --engine " + engine_name) +
+                                               " names the body, field and stage)");
+  compare::ViewPage page;
+  page.stride = stride;
+  page.scene = rec.scene;
+  page.runs.push_back(recorder.take());
+  page.title = a.title.empty() ? "lockstep view " + rec.scene.name + " (recording)" : a.title;
+  page.recording = shown;
+  std::string out = a.out;
+  if (out.empty()) {
+    out = path;
+    if (out.size() > 5 && out.substr(out.size() - 5) == ".json") out.resize(out.size() - 5);
+    out += ".html";
+  }
+  const std::string html = compare::view_html(page, compare::load_view_libraries());
+  compare::write_file(out, html);
+  std::printf("view: %s (recording of scene '%s', %s, %d frames, %zu inputs marked; %s)\n", out.c_str(),
+              rec.scene.name.c_str(), count_of(bodies, "body", "bodies").c_str(), frames, rec.inputs.size(),
+              shown.diverged_frame < 0 ? ("the replay on " + engine_name + " agrees with it on every frame").c_str()
+                                       : ("DIVERGED at frame " + std::to_string(shown.diverged_frame) + " on " + engine_name).c_str());
+  return 0;
+}
+
 int view_command(const ViewArgs& a) {
+  if (a.runs.size() == 1 && is_recording(a.runs.front())) return view_recording(a);
+  if (!a.engine.empty()) throw std::invalid_argument("--engine: only for a recording (lockstep view FILE.rec.json --engine E)");
+  for (const std::string& path : a.runs)
+    if (is_recording(path))
+      throw std::invalid_argument("RUN '" + path + "' is a recording: view shows one recording at a time, without other runs");
   // Choose the stride from the runs' shapes before loading them.
   int frames = 0, bodies = 0;
   for (const std::string& path : a.runs) {
@@ -96,8 +176,11 @@ int view_command(const ViewArgs& a) {
 std::function<int()> define(CLI::App& app) {
   auto a = std::make_shared<ViewArgs>();
   app.add_option("RUN", a->runs, "trajectory CSVs written by `lockstep run` (each with its FILE.run.json); two or more "
-                                 "runs of one scene are compared, the first as the baseline")->required();
+                                 "runs of one scene are compared, the first as the baseline; or one recording "
+                                 "(`lockstep run --record`), replayed")->required();
   app.add_option("--out", a->out, "the page (default: RUN with .html for one run, view-SCENE.html for several)");
+  app.add_option("--engine", a->engine, "a recording's replay engine (default: the recording's)")
+      ->check(one_of(accepted_engine_names()));
   app.add_option("--page-mb,--max-mb", a->max_mb, "MiB of trajectories the page holds at most; above, every k-th "
                                                   "written frame (--max-mb: the old name)")
       ->check(integer_in(1, 4096))->capture_default_str();
@@ -111,7 +194,8 @@ const bool registered = register_command(
     {"view", "the replay page of runs of one scene: boxes in 3D, charts, divergence (one HTML file, works offline)",
      "  lockstep run stack5 --engine fixed --out fixed.csv --contacts\n"
      "  lockstep run stack5 --engine float --out float.csv\n"
-     "  lockstep view fixed.csv float.csv --out stack5.html   # open stack5.html in a browser\n",
+     "  lockstep view fixed.csv float.csv --out stack5.html   # open stack5.html in a browser\n"
+     "  lockstep run pyramid --record p.rec.json && lockstep view p.rec.json --engine double   # DIVERGED at frame 1\n",
      define});
 
 }  // namespace

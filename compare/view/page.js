@@ -25,6 +25,7 @@
     asleepBits: decode(r.asleep, Uint8Array),
   }));
   const C = D.comparison || null;
+  const REC = D.recording || null;  // a recording replayed: its inputs and where the replay diverged
   const base = runs[0];
   const keptFrames = base.frames;  // the slider walks the baseline's kept frames
   const COLORS = ['#4f9dff', '#ff9f40', '#4bc07a', '#c77dff', '#ffd24d', '#ff6b9a', '#6fe0e0'];
@@ -325,7 +326,7 @@
   const mib = (D.data_bytes / (1 << 20)).toFixed(2);
   $('summary').textContent = 'scene ' + S.name + ': ' + N + ' bodies, frames 0-' + keptFrames[keptFrames.length - 1] +
     (D.stride > 1 ? ' (1 frame in ' + D.stride + ' kept)' : '') + '; trajectories ' + mib + ' MiB (float32). ' +
-    (C ? C.tolerance_note + ' ' + C.note : '');
+    (C ? C.tolerance_note + ' ' + C.note : '') + (REC ? ' ' + REC.note : '');
   $('legend').innerHTML = '<span><i style="background:#4f9dff"></i>awake</span><span><i style="background:#8a7fb0"></i>asleep</span>' +
     '<span><i style="background:#6b6f78"></i>static</span>' + (C ? '<span><i style="background:#ff3b3b"></i>beyond ' +
     C.position_tolerance + ' m of ' + base.label + ' (' + C.tolerance_name + ')</span>' : '') +
@@ -352,6 +353,21 @@
           ' (body ' + C.parted_body[r] + ')');
     if (C.first_hash_difference >= 0)
       addMarker(C.first_hash_difference, 'hash', C.note);
+  }
+  if (REC) {
+    for (const x of REC.inputs) addMarker(x.frame, 'input', x.kind + ' before frame ' + x.frame);
+    if (REC.diverged_frame >= 0)
+      addMarker(REC.diverged_frame, 'diverged', 'the replay on ' + REC.engine + ' diverges from the recording at frame ' +
+        REC.diverged_frame);
+  }
+  // "DIVERGED at frame N" over the 3D view from the first frame whose
+  // replayed hash differs from the recorded one.
+  function divergedOverlay() {
+    const el = $('diverged');
+    const on = !!REC && REC.diverged_frame >= 0 && frameOf(current) >= REC.diverged_frame;
+    el.hidden = !on;
+    if (on) el.textContent = 'DIVERGED at frame ' + REC.diverged_frame;
+    return on;
   }
 
   function columnLabels() {
@@ -425,7 +441,7 @@
       rows.push('<span class="' + (differs ? 'differs' : '') + '">' + run.label + ' (' + (run.engine || '?') + '): hash ' +
         (h || 'n/a') + (differs ? ' (differs from ' + ref.label + ')' : same ? ' (= ' + ref.label + ')' : '') + '</span>');
     }
-    $('hashes').innerHTML = rows.join('<br>') + (C && C.note ? '<br>' + C.note : '');
+    $('hashes').innerHTML = rows.join('<br>') + (C && C.note ? '<br>' + C.note : '') + (REC ? '<br>' + REC.note.replace(/[<>&]/g, (c) => ({ '<': '&lt;', '>': '&gt;', '&': '&amp;' })[c]) : '');
   }
 
   function status() {
@@ -434,7 +450,8 @@
     const st = { ready: true, frame: frameOf(current), index: current, boxes: boxes, bodies: N, runs: runs.length,
       markers: markers, errors: window.lockstepErrors.slice(), bench: benchResult, setup_ms: setupMs,
       page_ready_ms: started + setupMs, webgl: !!renderer, mode: mode,
-      tolerance: C ? { position: C.position_tolerance, orientation: C.orientation_tolerance, name: C.tolerance_name } : null };
+      tolerance: C ? { position: C.position_tolerance, orientation: C.orientation_tolerance, name: C.tolerance_name } : null,
+      recording: REC ? { inputs: REC.inputs.length, diverged_frame: REC.diverged_frame, overlay: !$('diverged').hidden } : null };
     if (isolated) st.footprints = footprints();
     const shown = {};
     for (const [r, run] of runs.entries())
@@ -488,6 +505,7 @@
     updateScene();
     bodyInfo();
     hashLine();
+    divergedOverlay();
     for (const c of charts) c.draw();
     render();
     status();

@@ -154,6 +154,7 @@ void World<T>::step(const StageObserver& after_stage) {
   ++frame_;
   Num<T>::take_faults();
   if (!forces_.empty()) apply_forces();                 // 0: eq 121 (run-time inputs)
+  after(FrameStage::forces);
   integrate_velocities();                               // 1: eqs 1, 5, 6, 13
   after(FrameStage::integrate_velocities);
   const bool oriented = scene_.pair_contacts == PairModel::kOrientedBox;

@@ -269,7 +269,7 @@ std::string replay_text(const ReplayReport& r) {
   };
   if (r.diff_frame >= 0) s += "  frame " + std::to_string(r.diff_frame) + ": " + body_line(r.body) + "\n";
   if (!r.recorder_state.empty()) s += "    recorder's state: " + r.recorder_state + "\n";
-  if (!r.stage.empty() && r.stage[0] >= '1' && r.stage[0] <= '9')
+  if (!r.stage.empty() && r.stage[0] >= '0' && r.stage[0] <= '9' && r.stage.rfind("0 the initial", 0) != 0)
     s += "  stage: " + r.stage + " (docs/SPEC.md 7.2): " + body_line(r.stage_body) + " after it\n";
   else if (!r.stage.empty()) s += "  stage: " + r.stage + ": " + body_line(r.stage_body) + "\n";
   else if (!r.stage_note.empty()) s += "  stage: not found: " + r.stage_note + "\n";

@@ -38,6 +38,7 @@ struct RunError : std::runtime_error {
 // The stages of a frame (docs/SPEC.md 7.2), in their order; World<T>::step
 // with an observer calls it after each.
 enum class FrameStage : std::uint8_t {
+  forces,                // 0: eq 121, the forces of run-time inputs
   integrate_velocities,  // 1: eqs 1, 5, 6, 13
   support_wake,          // 2a: eq 108
   broad_phase,           // 2: eqs 31, 82, 83, 107
@@ -48,10 +49,12 @@ enum class FrameStage : std::uint8_t {
   integrate_positions,   // 8: eqs 2, 7-10
   sleep,                 // 9: eqs 78-80, 109
 };
-inline constexpr int kFrameStageCount = 9;
-// "1 integrate_velocities", "2a support_wake", ...: SPEC 7.2's number and the stage's name.
+inline constexpr int kFrameStageCount = 10;
+// "0 forces", "1 integrate_velocities", "2a support_wake", ...: SPEC 7.2's
+// number and the stage's name.
 inline const char* frame_stage_name(FrameStage s) {
   switch (s) {
+    case FrameStage::forces: return "0 forces";
     case FrameStage::integrate_velocities: return "1 integrate_velocities";
     case FrameStage::support_wake: return "2a support_wake";
     case FrameStage::broad_phase: return "2 broad_phase";
