@@ -245,6 +245,7 @@ TEST_P(ReplayPerturbed, NamesFrameBodyFieldAndStage) {
   };
   const ReplayReport r = replay(rec, "fixed-perturbed", make);
   const std::string text = replay_text(r);
+  RecordProperty("replay", text);  // the report, in --gtest_output=xml (docs/RECORDINGS.md quotes one)
   EXPECT_EQ(r.first_frame, p.frame) << text;
   EXPECT_EQ(r.diff_frame, p.frame) << text;
   if (p.frame_field != nullptr) {  // the nudge stays in its body until the frame ends

@@ -21,6 +21,8 @@ using nlohmann::json;
 
 inline constexpr double kMaxValue = 32768.0;  // inputs' values: the Q16.16 range |x| < 32768
 
+std::string join(const std::string& path, const std::string& key) { return path.empty() ? key : path + "." + key; }
+
 class Reader {
  public:
   explicit Reader(std::string_view source) : source_(source) {}
@@ -33,7 +35,7 @@ class Reader {
   }
   const json& member(const json& obj, const std::string& path, const char* key) const {
     auto it = obj.find(key);
-    if (it == obj.end()) fail(path + "." + key, "missing; add it (docs/RECORDINGS.md)");
+    if (it == obj.end()) fail(join(path, key), "missing; add it (docs/RECORDINGS.md)");
     return *it;
   }
   void only_keys(const json& obj, const std::string& path, std::initializer_list<const char*> keys) const {
@@ -44,7 +46,7 @@ class Reader {
         known = known || it.key() == k;
         list += (list.empty() ? "" : ", ") + std::string(k);
       }
-      if (!known) fail(path + "." + it.key(), "unknown field; the fields here are " + list + " (remove it or fix its name)");
+      if (!known) fail(join(path, it.key()), "unknown field; the fields here are " + list + " (remove it or fix its name)");
     }
   }
   const json& object(const json& j, const std::string& path) const {

@@ -201,8 +201,9 @@ ReplayReport replay(const RunRecording& rec, const std::string& engine, const En
       r.stage_note = "the " + (my_stages.empty() ? engine : rec.engine) +
                      " engine cannot stop between the stages of a frame (the CPU engines can)";
     } else if (const BodyDifference d0 = first_body_difference(before_theirs, before_mine); d0.body >= 0 || d0.bodies_differing < 0) {
-      r.stage = f == 1 ? "0 the initial state (the scene's values in each engine's number type)"
-                       : "none: the bodies differ at frame " + std::to_string(f - 1) + " already, in bits its hash does not cover";
+      r.stage = f == 1 ? "before frame 1: the initial states differ (the scene's values in each engine's number type)"
+                       : "before frame " + std::to_string(f) + ": the bodies differ at frame " + std::to_string(f - 1) +
+                             " already, in a field its hash does not cover";
       r.stage_body = d0;
     } else {
       for (std::size_t s = 0; s < my_stages.size() && s < their_stages.size(); ++s) {
@@ -224,7 +225,7 @@ ReplayReport replay(const RunRecording& rec, const std::string& engine, const En
   r.stage_note = "the recorder's frame cannot be re-run here: the " + rec.engine + " engine of this build " +
                  (theirs.agrees_to < f - 1 ? "differs from the recording from frame " + std::to_string(theirs.agrees_to + 1)
                                            : "differs from the recording at frame " + std::to_string(f)) +
-                 " too (the recording was made by another build: " + rec.build + ")";
+                 " too: the recording comes from another build, or was changed since (recorded by: " + rec.build + ")";
   for (const RecordedSnapshot& s : rec.snapshots) {
     if (s.frame < f) continue;
     try {
@@ -262,14 +263,14 @@ std::string replay_text(const ReplayReport& r) {
   auto body_line = [](const BodyDifference& d) {
     if (d.bodies_differing < 0)
       return "the body count: recorded " + value_text(d.recorded) + ", replayed " + value_text(d.replayed);
-    if (d.body < 0) return std::string("no body differs");
+    if (d.body < 0) return std::string("no body differs there (the runs' states meet again, or the recorded hash is not that of a state)");
     return "body " + std::to_string(d.body) + ", field " + d.field + ": recorded " + value_text(d.recorded) +
            ", replayed " + value_text(d.replayed) + " (" + std::to_string(d.bodies_differing) + " bod" +
            (d.bodies_differing == 1 ? "y differs)" : "ies differ)");
   };
   if (r.diff_frame >= 0) s += "  frame " + std::to_string(r.diff_frame) + ": " + body_line(r.body) + "\n";
   if (!r.recorder_state.empty()) s += "    recorder's state: " + r.recorder_state + "\n";
-  if (!r.stage.empty() && r.stage[0] >= '0' && r.stage[0] <= '9' && r.stage.rfind("0 the initial", 0) != 0)
+  if (!r.stage.empty() && r.stage[0] >= '0' && r.stage[0] <= '9')
     s += "  stage: " + r.stage + " (docs/SPEC.md 7.2): " + body_line(r.stage_body) + " after it\n";
   else if (!r.stage.empty()) s += "  stage: " + r.stage + ": " + body_line(r.stage_body) + "\n";
   else if (!r.stage_note.empty()) s += "  stage: not found: " + r.stage_note + "\n";

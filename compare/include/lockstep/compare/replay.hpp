@@ -74,7 +74,9 @@ struct ReplayReport {
   int diff_frame = -1;
   BodyDifference body;
   std::string recorder_state;     // how the recorder's state was obtained
-  // The stage of first_frame where the two runs part; empty when not found, then stage_note says why.
+  // The stage of first_frame where the two runs part ("5 solve", docs/SPEC.md
+  // 7.2), or "before frame N: ..." when the states differ before it; empty
+  // when not found, then stage_note says why.
   std::string stage;
   BodyDifference stage_body;
   std::string stage_note;
