@@ -80,9 +80,6 @@ class EngineRun {
     step();
     return {};
   }
-  // The engine's snapshot (docs/SNAPSHOTS.md); the CPU engines have them, the
-  // others throw std::invalid_argument.
-  // Inline: the GPU engine's library derives from EngineRun without linking this one.
   // Applies a run-time input now (lockstep/input.hpp, docs/SPEC.md "Run-time
   // inputs"): input.frame must be frame() + 1. Every engine of
   // engine_names() implements it; throws std::invalid_argument for a bad
@@ -91,9 +88,13 @@ class EngineRun {
   virtual void apply(const Input& /*input*/) {
     throw std::invalid_argument("the " + name() + " engine takes no run-time inputs");
   }
+  // The engine's snapshot (docs/SNAPSHOTS.md); every engine of
+  // engine_names() has them (the gpu engine's: "The GPU engine"), others
+  // throw std::invalid_argument.
+  // Inline: the GPU engine's library derives from EngineRun without linking this one.
   virtual std::vector<std::uint8_t> save_state() const {
     throw std::invalid_argument("the " + name() +
-                                " engine has no snapshots (the CPU engines fixed, float, double and mp have)");
+                                " engine has no snapshots (the engines fixed, float, double, mp and gpu have)");
   }
 };
 
