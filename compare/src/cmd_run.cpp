@@ -94,6 +94,9 @@ int run_command(RunOptions o) {
   Scene scene;
   std::unique_ptr<EngineRun> engine;
   set_quiet_engines(o.quiet);
+  if (o.snapshot_every > 0 && o.record.empty())
+    throw std::invalid_argument("--snapshot-every " + std::to_string(o.snapshot_every) +
+                                ": snapshots go into a recording; add --record FILE");
   if (!o.load_state.empty() && !o.record.empty())
     throw std::invalid_argument("--record and --load-state: a recording starts at frame 0 of its scene; record from SCENE");
   if (!o.load_state.empty() && !o.inputs.empty())
