@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <memory>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -234,6 +235,10 @@ struct Perturbation {
   const char* frame_field;  // the first field that differs at the end of the frame; null: several bodies differ by then
 };
 
+void PrintTo(const Perturbation& p, std::ostream* os) {
+  *os << "frame " << p.frame << ", after stage " << frame_stage_name(p.stage) << ", body " << p.body;
+}
+
 class ReplayPerturbed : public ::testing::TestWithParam<Perturbation> {};
 
 TEST_P(ReplayPerturbed, NamesFrameBodyFieldAndStage) {
@@ -271,6 +276,11 @@ INSTANTIATE_TEST_SUITE_P(Stages, ReplayPerturbed,
                          ::testing::Values(Perturbation{17, FrameStage::integrate_positions, 6, "v.x"},
                                            Perturbation{23, FrameStage::solve, 4, nullptr},
                                            Perturbation{9, FrameStage::integrate_velocities, 9, nullptr},
-                                           Perturbation{31, FrameStage::settle, 2, nullptr}));
+                                           Perturbation{31, FrameStage::settle, 2, nullptr}),
+                         [](const ::testing::TestParamInfo<Perturbation>& info) {
+                           return "Frame" + std::to_string(info.param.frame) + "Stage" +
+                                  std::to_string(static_cast<int>(info.param.stage)) + "Body" +
+                                  std::to_string(info.param.body);
+                         });
 
 }  // namespace
