@@ -277,10 +277,10 @@ INSTANTIATE_TEST_SUITE_P(Stages, ReplayPerturbed,
                                            Perturbation{23, FrameStage::solve, 4, nullptr},
                                            Perturbation{9, FrameStage::integrate_velocities, 9, nullptr},
                                            Perturbation{31, FrameStage::settle, 2, nullptr}),
-                         [](const ::testing::TestParamInfo<Perturbation>& info) {
-                           return "Frame" + std::to_string(info.param.frame) + "Stage" +
-                                  std::to_string(static_cast<int>(info.param.stage)) + "Body" +
-                                  std::to_string(info.param.body);
+                         [](const ::testing::TestParamInfo<Perturbation>& param) {
+                           return "Frame" + std::to_string(param.param.frame) + "Stage" +
+                                  std::to_string(static_cast<int>(param.param.stage)) + "Body" +
+                                  std::to_string(param.param.body);
                          });
 
 }  // namespace
