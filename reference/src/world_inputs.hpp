@@ -52,7 +52,7 @@ BodyId World<T>::apply(const Input& input) {
   if (input.frame != frame_ + 1)
     throw std::invalid_argument("apply: input.frame = " + std::to_string(input.frame) + " but the world is at frame " +
                                 std::to_string(frame_) + ": an input of frame f is applied before the step that "
-                                "computes frame f; apply it when frame() == " + std::to_string(input.frame - 1));
+                                "computes frame f; apply it when frame() == " + std::to_string(static_cast<long long>(input.frame) - 1));
   switch (input.kind) {
     case InputKind::create: return create_body(input.body);
     case InputKind::destroy: destroy_body(input.id); break;
