@@ -91,7 +91,11 @@ def main(argv):
     with open(inputs, "w") as f:
         f.write('{"format": "lockstep-inputs", "version": 1, "inputs": [\n'
                 '  {"frame": 20, "kind": "set_velocity", "id": 4, "velocity": [1.5, 2, 0], "angular_velocity": [0, 3, 0]},\n'
-                '  {"frame": 45, "kind": "wake", "id": 0}\n]}\n')
+                '  {"frame": 45, "kind": "wake", "id": 0},\n'
+                '  {"frame": 50, "kind": "impulse", "id": 2, "impulse": [0.5, 3, 0], "point": [0, 1.2, 0.25]},\n'
+                '  {"frame": 70, "kind": "create", "body": {"half_extents": [0.25, 0.5, 0.25], "mass": 0.75, '
+                '"position": [0.5, 5, 0], "orientation": [0.9, 0.1, 0.3, 0]}},\n'
+                '  {"frame": 80, "kind": "destroy", "id": 1}\n]}\n')
     rec = os.path.join(work, "pyramid.rec.json")
     r = subprocess.run([lockstep, "run", "pyramid", "--frames", "90", "--inputs", inputs, "--record", rec,
                         "--snapshot-every", "30", "--quiet", "--out", os.path.join(work, "pyramid.csv")],

@@ -61,7 +61,9 @@ int replay(const std::string& path) {
                 compare::hash_to_hex(w.state_hash()).c_str());
     if (const compare::RecordedSnapshot* s = rec.snapshot_at(f)) {
       const World<Q16> recorded = World<Q16>::load_state(s->bytes);
-      for (std::size_t i = 0; i < w.bodies().size(); ++i) {
+      if (recorded.bodies().size() != w.bodies().size())
+        std::printf("  frame %d: %zu bodies recorded, %zu replayed\n", f, recorded.bodies().size(), w.bodies().size());
+      for (std::size_t i = 0; i < w.bodies().size() && i < recorded.bodies().size(); ++i) {
         const std::string d = field_difference(recorded.bodies()[i], w.bodies()[i]);
         if (!d.empty()) {
           std::printf("  frame %d: body %zu, field %s\n", f, i, d.c_str());
