@@ -5,11 +5,13 @@
 // it, marks the inputs' frames and shows "DIVERGED at frame N" from the first
 // frame whose hash differs from the recorded one (docs/RECORDINGS.md).
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <memory>
 
 #include "commands.hpp"
+#include "lockstep/body_ids.hpp"
 #include "lockstep/compare/recording.hpp"
 #include "lockstep/compare/replay.hpp"
 #include "lockstep/compare/report.hpp"
@@ -35,8 +37,24 @@ bool is_recording(const std::string& path) {
   return head.find(std::string("\"") + compare::kRecordingFormat + "\"") != std::string::npos;
 }
 
+// A body as the page shows it where it does not exist (not yet created, or
+// removed): at its creation pose, at rest.
+BodySnapshot at_rest(const BodyDesc& d) {
+  const double n = std::sqrt(d.orientation.w * d.orientation.w + d.orientation.x * d.orientation.x +
+                             d.orientation.y * d.orientation.y + d.orientation.z * d.orientation.z);
+  return {{d.position.x, d.position.y, d.position.z},
+          {d.orientation.w / n, d.orientation.x / n, d.orientation.y / n, d.orientation.z / n},
+          {0, 0, 0},
+          {0, 0, 0},
+          false,
+          -1};
+}
+
 // The page of a recording: its replay's trajectory on `engine`, the inputs'
-// frames, and where the replay's hashes leave the recorded ones.
+// frames, and where the replay's hashes leave the recorded ones. The page's
+// bodies are every body that exists at some frame, in order of first
+// appearance (the scene's, then each created one); a body is marked absent
+// (asleep byte 2) in the frames where it does not exist.
 int view_recording(const ViewArgs& a) {
   const std::string& path = a.runs.front();
   compare::RunRecording rec;
@@ -45,28 +63,83 @@ int view_recording(const ViewArgs& a) {
   } catch (const compare::RecordingError& e) {
     throw std::invalid_argument(std::string("RUN: ") + e.what());
   }
-  for (const Input& in : rec.inputs)
-    if (in.kind == InputKind::create || in.kind == InputKind::destroy)
-      throw std::invalid_argument("RUN: " + path + ": its inputs create or remove bodies (frame " + std::to_string(in.frame) +
-                                  "); the page shows a fixed set of bodies: replay it with `lockstep replay " + path + "`");
   const std::string engine_name = a.engine.empty() ? rec.engine : a.engine;
   set_quiet_engines(true);
   std::unique_ptr<EngineRun> engine = make_engine(engine_name, rec.scene);
   const int frames = rec.frames();
-  const int bodies = static_cast<int>(rec.scene.bodies.size());
-  const int stride = compare::view_stride(frames, bodies, 1, static_cast<std::size_t>(a.max_mb) << 20);
-  compare::ViewRecorder recorder("replay on " + engine_name, engine_name, false, true);
-  recorder.add(*engine, true);
+  Scene shown_scene = rec.scene;            // the page's bodies: the scene's, then each created one
+  std::vector<int> column(rec.scene.bodies.size());  // per engine body index: its page body
+  for (std::size_t i = 0; i < column.size(); ++i) column[i] = static_cast<int>(i);
+  BodyIds ids;
+  ids.reset(column.size());
+  std::size_t creations = 0;
+  for (const Input& in : rec.inputs) creations += in.kind == InputKind::create ? 1 : 0;
+  const int stride = compare::view_stride(frames, static_cast<int>(column.size() + creations), 1,
+                                          static_cast<std::size_t>(a.max_mb) << 20);
+  compare::ViewRecorder recorder("replay on " + engine_name, engine_name, false, false);  // the per-frame series
+  struct Kept {
+    int frame;
+    std::vector<BodySnapshot> bodies;  // by engine index
+    std::vector<int> column;
+  };
+  std::vector<Kept> kept;
+  auto keep = [&] {
+    Kept k{engine->frame(), {}, column};
+    for (int i = 0; i < engine->body_count(); ++i) k.bodies.push_back(engine->body(i));
+    kept.push_back(std::move(k));
+  };
+  recorder.add(*engine, false);
+  keep();
   compare::ViewRecording shown;
   shown.recorded_engine = rec.engine;
   shown.engine = engine_name;
   for (const Input& in : rec.inputs) shown.inputs.emplace_back(in.frame, input_kind_name(in.kind));
   std::size_t next = 0;
   for (int f = 1; f <= frames; ++f) {
-    for (; next < rec.inputs.size() && rec.inputs[next].frame == f; ++next) compare::apply_input(*engine, rec.inputs[next]);
+    for (; next < rec.inputs.size() && rec.inputs[next].frame == f; ++next) {
+      const Input& in = rec.inputs[next];
+      compare::apply_input(*engine, in);
+      if (in.kind == InputKind::create) {  // appended at the end, with the next id
+        (void)ids.add();
+        column.push_back(static_cast<int>(shown_scene.bodies.size()));
+        shown_scene.bodies.push_back(in.body);
+      } else if (in.kind == InputKind::destroy) {  // the bodies after it move down one
+        const std::size_t index = ids.require(in.id, "destroy");
+        ids.remove(index);
+        column.erase(column.begin() + static_cast<std::ptrdiff_t>(index));
+      }
+    }
     engine->step();
     if (shown.diverged_frame < 0 && engine->state_hash() != rec.hashes[static_cast<std::size_t>(f - 1)]) shown.diverged_frame = f;
-    recorder.add(*engine, f % stride == 0 || f == frames);
+    recorder.add(*engine, false);
+    if (f % stride == 0 || f == frames) keep();
+  }
+  const std::size_t columns = shown_scene.bodies.size();
+  compare::ViewRun run = recorder.take();
+  run.bodies = static_cast<int>(columns);
+  std::vector<BodySnapshot> last(columns);  // where each body was last seen (before its creation: where it is created)
+  for (std::size_t c = 0; c < columns; ++c) last[c] = at_rest(shown_scene.bodies[c]);
+  std::vector<char> seen(columns, 0);
+  for (const Kept& k : kept)  // a body's first state seen is where it waits before it appears
+    for (std::size_t i = 0; i < k.bodies.size(); ++i) {
+      const auto c = static_cast<std::size_t>(k.column[i]);
+      if (!seen[c]) last[c] = k.bodies[i];
+      seen[c] = 1;
+    }
+  for (const Kept& k : kept) {
+    std::vector<char> present(columns, 0);
+    for (std::size_t i = 0; i < k.bodies.size(); ++i) {
+      const auto c = static_cast<std::size_t>(k.column[i]);
+      last[c] = k.bodies[i];
+      present[c] = 1;
+    }
+    run.frames.push_back(k.frame);
+    for (std::size_t c = 0; c < columns; ++c) {
+      const BodySnapshot& b = last[c];
+      for (double x : {b.p[0], b.p[1], b.p[2], b.q[0], b.q[1], b.q[2], b.q[3], b.v[0], b.v[1], b.v[2], b.w[0], b.w[1], b.w[2]})
+        run.state.push_back(static_cast<float>(x));
+      run.asleep.push_back(present[c] ? (b.asleep ? 1 : 0) : 2);
+    }
   }
   shown.note = "recording " + path + " (" + rec.engine + ", " + std::to_string(rec.inputs.size()) + " inputs) replayed on " +
                engine_name + ": " +
@@ -76,8 +149,8 @@ int view_recording(const ViewArgs& a) {
                                                " names the body, field and stage)");
   compare::ViewPage page;
   page.stride = stride;
-  page.scene = rec.scene;
-  page.runs.push_back(recorder.take());
+  page.scene = shown_scene;
+  page.runs.push_back(std::move(run));
   page.title = a.title.empty() ? "lockstep view " + rec.scene.name + " (recording)" : a.title;
   page.recording = shown;
   std::string out = a.out;
@@ -89,7 +162,8 @@ int view_recording(const ViewArgs& a) {
   const std::string html = compare::view_html(page, compare::load_view_libraries());
   compare::write_file(out, html);
   std::printf("view: %s (recording of scene '%s', %s, %d frames, %zu inputs marked; %s)\n", out.c_str(),
-              rec.scene.name.c_str(), count_of(bodies, "body", "bodies").c_str(), frames, rec.inputs.size(),
+              rec.scene.name.c_str(), count_of(static_cast<long long>(columns), "body", "bodies").c_str(), frames,
+              rec.inputs.size(),
               shown.diverged_frame < 0 ? ("the replay on " + engine_name + " agrees with it on every frame").c_str()
                                        : ("DIVERGED at frame " + std::to_string(shown.diverged_frame) + " on " + engine_name).c_str());
   return 0;

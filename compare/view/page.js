@@ -26,6 +26,7 @@
   }));
   const C = D.comparison || null;
   const REC = D.recording || null;  // a recording replayed: its inputs and where the replay diverged
+  const ABSENT = 2;  // a body's asleep byte when it does not exist at that frame (a recording's creations, removals)
   const base = runs[0];
   const keptFrames = base.frames;  // the slider walks the baseline's kept frames
   const COLORS = ['#4f9dff', '#ff9f40', '#4bc07a', '#c77dff', '#ffd24d', '#ff6b9a', '#6fe0e0'];
@@ -243,6 +244,7 @@
       const counts = { awake: 0, asleep: 0, static: 0, diverged: 0 };
       if (k >= 0 && (run.frames[run.frames.length - 1] >= f || r === 0)) {
         for (let i = 0; i < N; ++i) {
+          if (run.asleepBits[k * N + i] === ABSENT) continue;
           const kind = div[r] && div[r][i] ? 'diverged' : isStatic[i] ? 'static' : run.asleepBits[k * N + i] ? 'asleep' : 'awake';
           const mesh = run.meshes[kind];
           bodyMatrix(run, k, i, mesh.instanceMatrix.array, 16 * counts[kind]++);
@@ -270,7 +272,7 @@
       const run = runs[selected.run], k = indexAt(run, f);
       bodyMatrix(run, k, selected.body, selection.matrix.elements, 0);
       selection.matrix.elements[0] *= 1.04; selection.matrix.elements[5] *= 1.04; selection.matrix.elements[10] *= 1.04;
-      selection.visible = true;
+      selection.visible = run.asleepBits[k * N + selected.body] !== ABSENT;
     }
   }
 
@@ -390,6 +392,10 @@
     const run = runs[selected.run], i = selected.body, k = indexAt(run, f);
     const s = (k * N + i) * FLOATS, st = run.state;
     const asleep = run.asleepBits[k * N + i];
+    if (asleep === ABSENT) {
+      el.textContent = run.label + ', body ' + i + ' at frame ' + run.frames[k] + ': not present (created later, or removed)';
+      return;
+    }
     let since = '';
     if (asleep) {
       let j = k;
@@ -478,6 +484,7 @@
       if (k < 0) continue;
       const x0 = columns > 1 ? r * cw : 0;
       for (let i = 0; i < N; ++i) {
+        if (run.asleepBits[k * N + i] === ABSENT) continue;
         const kind = div[r] && div[r][i] ? 'diverged' : isStatic[i] ? 'static' : run.asleepBits[k * N + i] ? 'asleep' : 'awake';
         if (onlyKind !== null && onlyKind !== kind) continue;
         bodyMatrix(run, k, i, m, 0);
@@ -558,6 +565,7 @@
     let best = Infinity, hit = -1;
     const q = new THREE.Quaternion(), lo3 = new THREE.Vector3(), ld3 = new THREE.Vector3();
     for (let i = 0; i < N; ++i) {
+      if (run.asleepBits[k * N + i] === ABSENT) continue;
       const s = (k * N + i) * FLOATS, st = run.state;
       q.set(st[s + 4], st[s + 5], st[s + 6], st[s + 3]).normalize().inverse();
       lo3.set(o.x - st[s], o.y - st[s + 1], o.z - st[s + 2]).applyQuaternion(q);

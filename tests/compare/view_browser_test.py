@@ -424,6 +424,22 @@ for engine, diverged in [("fixed", -1), ("double", 1)]:
         st0, _ = status(url + "#frame=0")
         check((st0.get("recording") or {}).get("overlay") is False, "recording page on double: no overlay at frame 0")
 
+# A recording that creates a body at frame 20 and removes body 1 at frame 40:
+# 5 boxes, then 6, then 5 (a body is drawn only in the frames it exists).
+with open(os.path.join(WORK, "create-destroy.json"), "w") as f:
+    f.write('{"format": "lockstep-inputs", "version": 1, "inputs": [{"frame": 20, "kind": "create", "body": '
+            '{"half_extents": [0.25, 0.5, 0.25], "mass": 0.75, "position": [0.5, 5, 0]}}, '
+            '{"frame": 40, "kind": "destroy", "id": 1}]}')
+r = run("run", "stack5", "--frames", "60", "--inputs", "create-destroy.json", "--record", "cd.rec.json", "--quiet",
+        "--out", "cd.csv")
+check(r.returncode == 0, "run --record with a creation and a removal (%s)" % r.stderr)
+rv = run("view", "cd.rec.json", "--out", "rec-cd.html")
+check(rv.returncode == 0 and "6 bodies" in rv.stdout, "view of a recording with a creation and a removal (%s %s)" % (rv.stdout, rv.stderr))
+for f, boxes in [(10, 5), (30, 6), (50, 5)]:
+    st, _ = status("file://" + os.path.join(WORK, "rec-cd.html") + "#frame=%d" % f)
+    check(st.get("errors") == [] and st.get("boxes") == boxes,
+          "recording with a creation and a removal: %d boxes at frame %d (got %s, %s)" % (boxes, f, st.get("boxes"), st.get("errors")))
+
 if failures:
     print("%d check(s) failed" % len(failures))
     sys.exit(1)
