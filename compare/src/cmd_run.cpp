@@ -3,7 +3,9 @@
 // that `lockstep view` reads (lockstep/compare/view.hpp). --save-state writes
 // the engine's snapshot after the last frame; --load-state resumes from one
 // (docs/SNAPSHOTS.md): the scene and the engine are the snapshot's, frame
-// numbers go on from its frame.
+// numbers go on from its frame. --record writes a recording of the run (its
+// scene, the inputs of --inputs, the per-frame hashes and snapshots) that
+// `lockstep replay` and `lockstep view` read (docs/RECORDINGS.md).
 #include <algorithm>
 #include <chrono>
 #include <cinttypes>
@@ -16,6 +18,8 @@
 
 #include "commands.hpp"
 #include "lockstep/compare/engine.hpp"
+#include "lockstep/compare/recording.hpp"
+#include "lockstep/compare/replay.hpp"
 #include "lockstep/compare/report.hpp"
 #include "lockstep/compare/view.hpp"
 #include "progress.hpp"
@@ -27,8 +31,9 @@ using compare::hash_hex;
 using compare::kRunRecordSuffix;
 
 struct RunOptions {
-  std::string scene, engine = "fixed", out, format = "csv", save_state, load_state;
+  std::string scene, engine = "fixed", out, format = "csv", save_state, load_state, record, inputs;
   bool engine_given = false;
+  int snapshot_every = 0;
   int frames = -1;
   long long every = 1;
   bool raw = false, quiet = false, no_progress = false, contacts = false;
@@ -89,6 +94,13 @@ int run_command(RunOptions o) {
   Scene scene;
   std::unique_ptr<EngineRun> engine;
   set_quiet_engines(o.quiet);
+  if (o.snapshot_every > 0 && o.record.empty())
+    throw std::invalid_argument("--snapshot-every " + std::to_string(o.snapshot_every) +
+                                ": snapshots go into a recording; add --record FILE");
+  if (!o.load_state.empty() && !o.record.empty())
+    throw std::invalid_argument("--record and --load-state: a recording starts at frame 0 of its scene; record from SCENE");
+  if (!o.load_state.empty() && !o.inputs.empty())
+    throw std::invalid_argument("--inputs and --load-state: inputs name frames from a scene's frame 0; give SCENE");
   if (!o.load_state.empty()) {
     if (!o.scene.empty())
       throw std::invalid_argument("SCENE '" + o.scene + "' and --load-state: the scene is in the snapshot; give one of them");
@@ -115,7 +127,16 @@ int run_command(RunOptions o) {
   const std::string out_path = o.out.empty() ? scene.name + "-" + o.engine + "." + o.format : o.out;
 
   if (!engine) engine = make_engine(o.engine, scene);
-  if (!o.save_state.empty()) (void)engine->save_state();  // an engine without snapshots is refused before the run
+  if (!o.save_state.empty() || !o.record.empty()) (void)engine->save_state();  // an engine without snapshots is refused before the run
+  std::unique_ptr<compare::RunRecorder> recorder;
+  if (!o.record.empty() || !o.inputs.empty()) {
+    compare::RecordRunOptions ro;
+    ro.snapshot_every = o.snapshot_every;
+    ro.build = build_text();
+    std::vector<Input> inputs;
+    if (!o.inputs.empty()) inputs = compare::load_inputs_file(o.inputs);
+    recorder = std::make_unique<compare::RunRecorder>(o.engine, scene, std::move(inputs), scene.frames, ro);
+  }
   std::ofstream file;
   std::ostream* out = &std::cout;
   if (out_path != "-") {
@@ -139,9 +160,11 @@ int run_command(RunOptions o) {
   record.add(*engine, o.contacts);
   double step_seconds = 0;
   for (int f = 0; f < scene.frames; ++f) {
+    if (recorder) recorder->before_step(*engine);
     const auto t0 = std::chrono::steady_clock::now();
     engine->step();
     step_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (recorder) recorder->after_step(*engine);
     const bool written = engine->frame() % o.every == 0 || f + 1 == scene.frames;
     if (written) write_frame(*out, *engine, jsonl, o.raw);
     record.add(*engine, written && o.contacts);
@@ -157,6 +180,13 @@ int run_command(RunOptions o) {
     if (!o.quiet)
       std::fprintf(stderr, "lockstep run: state after frame %d written to %s (%zu bytes)\n", engine->frame(),
                    o.save_state.c_str(), bytes.size());
+  }
+  if (!o.record.empty()) {
+    compare::write_file(o.record, compare::recording_to_json(recorder->recording()));
+    if (!o.quiet)
+      std::fprintf(stderr, "lockstep run: recording of %d frames (%zu inputs, %zu snapshots) written to %s\n",
+                   recorder->recording().frames(), recorder->recording().inputs.size(),
+                   recorder->recording().snapshots.size(), o.record.c_str());
   }
   const double ms = scene.frames ? 1e3 * step_seconds / scene.frames : 0.0;
   const int asleep_at = record.all_asleep_frame();
@@ -198,6 +228,13 @@ std::function<int()> define(CLI::App& app) {
   app.add_option("--save-state", o->save_state, "write the engine's snapshot after the last frame to FILE (docs/SNAPSHOTS.md)");
   app.add_option("--load-state", o->load_state,
                  "resume from the snapshot in FILE (its scene and engine; frame numbers go on from its frame)");
+  app.add_option("--record", o->record,
+                 "write a recording of the run to FILE: scene, inputs, per-frame hashes, snapshots "
+                 "(docs/RECORDINGS.md; `lockstep replay FILE`)");
+  app.add_option("--inputs", o->inputs, "apply the run-time inputs of this JSON file (docs/RECORDINGS.md \"Inputs\")");
+  app.add_option("--snapshot-every", o->snapshot_every,
+                 "with --record: a snapshot every K frames besides the last (0: the last only)")
+      ->check(integer_in(0, 10'000'000))->capture_default_str();
   app.add_option("--out", o->out,
                  "trajectory file, or - for stdout (default: SCENE-ENGINE.FORMAT); a CSV file gets FILE.hashes and "
                  "FILE" + std::string(kRunRecordSuffix) + " (what `lockstep view` reads) beside it");
@@ -219,7 +256,8 @@ const bool registered = register_command(
     {"run", "run a scene; write its trajectory, per-frame hashes and run record",
      "  lockstep run stack5 --engine double --every 10 --out stack5.csv\n"
      "  lockstep run drop --quiet --out -  > /dev/null\n"
-     "  lockstep run stack5 --frames 100 --save-state s.bin && lockstep run --load-state s.bin --frames 100\n",
+     "  lockstep run stack5 --frames 100 --save-state s.bin && lockstep run --load-state s.bin --frames 100\n"
+     "  lockstep run pyramid --frames 120 --inputs kicks.json --record pyramid.rec.json && lockstep replay pyramid.rec.json\n",
      define});
 
 }  // namespace

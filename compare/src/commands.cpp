@@ -10,6 +10,7 @@
 
 #include "lockstep/builtin_scenes.hpp"
 #include "lockstep/compare/engine.hpp"
+#include "lockstep/compare/recording.hpp"
 #include "lockstep/scene_json.hpp"
 #include "lockstep/world.hpp"
 
@@ -76,6 +77,10 @@ CLI::Validator one_of(const std::vector<std::string>& allowed) {
         return "'" + s + "' must be one of " + list;
       },
       "one of " + list);
+}
+
+std::string build_text() {
+  return compare::build_description(LOCKSTEP_VERSION) + ", commit " + lockstep_build_commit();
 }
 
 std::vector<std::string> split_list(const std::string& list) {

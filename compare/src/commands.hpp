@@ -42,9 +42,13 @@ std::string significant(double v, int digits = 3);
 
 // The exit codes of every command, as --help and the README list them.
 inline constexpr const char* kExitCodes =
-    "exit codes: 0 success; 1 the engines disagree (compare), a check failed (vectors verify, certify) or the "
+    "exit codes: 0 success; 1 the engines disagree (compare), a replay differs (replay), a check failed (vectors verify, certify) or the "
     "accuracy is out of bounds; 2 a usage, scene or file error (the message names the option or field and the fix); "
     "3 a run stopped (an engine reported a state it cannot go on from, e.g. a non-finite value)";
+
+// This build in words, for recordings: "lockstep 0.1.0, g++ 12.2.0, x86_64,
+// optimised, commit abc123".
+std::string build_text();
 
 // Splits "a,b,c" into its non-empty names.
 std::vector<std::string> split_list(const std::string& list);

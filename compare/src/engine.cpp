@@ -25,6 +25,19 @@ template <class T>
 BodySnapshot WorldRun<T>::body(int i) const { return snapshot_of(world_.body(i)); }
 
 template <class T>
+std::vector<StageState> WorldRun<T>::step_stages() {
+  std::vector<StageState> out;
+  out.reserve(kFrameStageCount);
+  world_.step([&out](FrameStage s, World<T>& w) {
+    StageState st{frame_stage_name(s), {}};
+    st.bodies.reserve(w.bodies().size());
+    for (const Body<T>& b : w.bodies()) st.bodies.push_back(snapshot_of(b));
+    out.push_back(std::move(st));
+  });
+  return out;
+}
+
+template <class T>
 std::vector<std::int32_t> WorldRun<T>::raw_state(int i) const {
   if constexpr (std::is_same_v<T, Q16>) {
     const Body<T>& b = world_.body(i);
@@ -49,6 +62,8 @@ std::vector<ContactSnapshot> WorldRun<T>::contacts() const {
 }
 
 namespace {
+bool quiet_engines = false;
+
 template <class T>
 ResumedEngine resumed(const std::vector<std::uint8_t>& bytes) {
   World<T> w = World<T>::load_state(bytes);
@@ -63,6 +78,12 @@ ResumedEngine engine_from_snapshot(const std::vector<std::uint8_t>& bytes) {
     case SnapshotNumber::kFloat: return resumed<float>(bytes);
     case SnapshotNumber::kDouble: return resumed<double>(bytes);
     case SnapshotNumber::kMp: return resumed<Mp>(bytes);
+    case SnapshotNumber::kGpu:
+#if LOCKSTEP_HAVE_GPU_ENGINE
+      return resume_gpu_engine(bytes, quiet_engines);
+#else
+      throw SnapshotError("a snapshot of the gpu engine, which this build lacks", "header.number_type");
+#endif
   }
   throw SnapshotError("unknown number type", "header.number_type");
 }
@@ -106,10 +127,6 @@ std::vector<std::string> engine_names_for(const Scene& scene) {
   for (std::string& n : engine_names())
     if (engine_limitation(n, scene).empty()) out.push_back(std::move(n));
   return out;
-}
-
-namespace {
-bool quiet_engines = false;
 }
 
 void set_quiet_engines(bool quiet) { quiet_engines = quiet; }

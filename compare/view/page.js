@@ -25,6 +25,8 @@
     asleepBits: decode(r.asleep, Uint8Array),
   }));
   const C = D.comparison || null;
+  const REC = D.recording || null;  // a recording replayed: its inputs and where the replay diverged
+  const ABSENT = 2;  // a body's asleep byte when it does not exist at that frame (a recording's creations, removals)
   const base = runs[0];
   const keptFrames = base.frames;  // the slider walks the baseline's kept frames
   const COLORS = ['#4f9dff', '#ff9f40', '#4bc07a', '#c77dff', '#ffd24d', '#ff6b9a', '#6fe0e0'];
@@ -242,6 +244,7 @@
       const counts = { awake: 0, asleep: 0, static: 0, diverged: 0 };
       if (k >= 0 && (run.frames[run.frames.length - 1] >= f || r === 0)) {
         for (let i = 0; i < N; ++i) {
+          if (run.asleepBits[k * N + i] === ABSENT) continue;
           const kind = div[r] && div[r][i] ? 'diverged' : isStatic[i] ? 'static' : run.asleepBits[k * N + i] ? 'asleep' : 'awake';
           const mesh = run.meshes[kind];
           bodyMatrix(run, k, i, mesh.instanceMatrix.array, 16 * counts[kind]++);
@@ -269,7 +272,7 @@
       const run = runs[selected.run], k = indexAt(run, f);
       bodyMatrix(run, k, selected.body, selection.matrix.elements, 0);
       selection.matrix.elements[0] *= 1.04; selection.matrix.elements[5] *= 1.04; selection.matrix.elements[10] *= 1.04;
-      selection.visible = true;
+      selection.visible = run.asleepBits[k * N + selected.body] !== ABSENT;
     }
   }
 
@@ -325,7 +328,7 @@
   const mib = (D.data_bytes / (1 << 20)).toFixed(2);
   $('summary').textContent = 'scene ' + S.name + ': ' + N + ' bodies, frames 0-' + keptFrames[keptFrames.length - 1] +
     (D.stride > 1 ? ' (1 frame in ' + D.stride + ' kept)' : '') + '; trajectories ' + mib + ' MiB (float32). ' +
-    (C ? C.tolerance_note + ' ' + C.note : '');
+    (C ? C.tolerance_note + ' ' + C.note : '') + (REC ? ' ' + REC.note : '');
   $('legend').innerHTML = '<span><i style="background:#4f9dff"></i>awake</span><span><i style="background:#8a7fb0"></i>asleep</span>' +
     '<span><i style="background:#6b6f78"></i>static</span>' + (C ? '<span><i style="background:#ff3b3b"></i>beyond ' +
     C.position_tolerance + ' m of ' + base.label + ' (' + C.tolerance_name + ')</span>' : '') +
@@ -353,6 +356,21 @@
     if (C.first_hash_difference >= 0)
       addMarker(C.first_hash_difference, 'hash', C.note);
   }
+  if (REC) {
+    for (const x of REC.inputs) addMarker(x.frame, 'input', x.kind + ' before frame ' + x.frame);
+    if (REC.diverged_frame >= 0)
+      addMarker(REC.diverged_frame, 'diverged', 'the replay on ' + REC.engine + ' diverges from the recording at frame ' +
+        REC.diverged_frame);
+  }
+  // "DIVERGED at frame N" over the 3D view from the first frame whose
+  // replayed hash differs from the recorded one.
+  function divergedOverlay() {
+    const el = $('diverged');
+    const on = !!REC && REC.diverged_frame >= 0 && frameOf(current) >= REC.diverged_frame;
+    el.hidden = !on;
+    if (on) el.textContent = 'DIVERGED at frame ' + REC.diverged_frame;
+    return on;
+  }
 
   function columnLabels() {
     const cols = $('columns');
@@ -374,6 +392,10 @@
     const run = runs[selected.run], i = selected.body, k = indexAt(run, f);
     const s = (k * N + i) * FLOATS, st = run.state;
     const asleep = run.asleepBits[k * N + i];
+    if (asleep === ABSENT) {
+      el.textContent = run.label + ', body ' + i + ' at frame ' + run.frames[k] + ': not present (created later, or removed)';
+      return;
+    }
     let since = '';
     if (asleep) {
       let j = k;
@@ -425,7 +447,7 @@
       rows.push('<span class="' + (differs ? 'differs' : '') + '">' + run.label + ' (' + (run.engine || '?') + '): hash ' +
         (h || 'n/a') + (differs ? ' (differs from ' + ref.label + ')' : same ? ' (= ' + ref.label + ')' : '') + '</span>');
     }
-    $('hashes').innerHTML = rows.join('<br>') + (C && C.note ? '<br>' + C.note : '');
+    $('hashes').innerHTML = rows.join('<br>') + (C && C.note ? '<br>' + C.note : '') + (REC ? '<br>' + REC.note.replace(/[<>&]/g, (c) => ({ '<': '&lt;', '>': '&gt;', '&': '&amp;' })[c]) : '');
   }
 
   function status() {
@@ -434,7 +456,8 @@
     const st = { ready: true, frame: frameOf(current), index: current, boxes: boxes, bodies: N, runs: runs.length,
       markers: markers, errors: window.lockstepErrors.slice(), bench: benchResult, setup_ms: setupMs,
       page_ready_ms: started + setupMs, webgl: !!renderer, mode: mode,
-      tolerance: C ? { position: C.position_tolerance, orientation: C.orientation_tolerance, name: C.tolerance_name } : null };
+      tolerance: C ? { position: C.position_tolerance, orientation: C.orientation_tolerance, name: C.tolerance_name } : null,
+      recording: REC ? { inputs: REC.inputs.length, diverged_frame: REC.diverged_frame, overlay: !$('diverged').hidden } : null };
     if (isolated) st.footprints = footprints();
     const shown = {};
     for (const [r, run] of runs.entries())
@@ -461,6 +484,7 @@
       if (k < 0) continue;
       const x0 = columns > 1 ? r * cw : 0;
       for (let i = 0; i < N; ++i) {
+        if (run.asleepBits[k * N + i] === ABSENT) continue;
         const kind = div[r] && div[r][i] ? 'diverged' : isStatic[i] ? 'static' : run.asleepBits[k * N + i] ? 'asleep' : 'awake';
         if (onlyKind !== null && onlyKind !== kind) continue;
         bodyMatrix(run, k, i, m, 0);
@@ -488,6 +512,7 @@
     updateScene();
     bodyInfo();
     hashLine();
+    divergedOverlay();
     for (const c of charts) c.draw();
     render();
     status();
@@ -540,6 +565,7 @@
     let best = Infinity, hit = -1;
     const q = new THREE.Quaternion(), lo3 = new THREE.Vector3(), ld3 = new THREE.Vector3();
     for (let i = 0; i < N; ++i) {
+      if (run.asleepBits[k * N + i] === ABSENT) continue;
       const s = (k * N + i) * FLOATS, st = run.state;
       q.set(st[s + 4], st[s + 5], st[s + 6], st[s + 3]).normalize().inverse();
       lo3.set(o.x - st[s], o.y - st[s + 1], o.z - st[s + 2]).applyQuaternion(q);

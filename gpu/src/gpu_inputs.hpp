@@ -8,6 +8,7 @@
 // bits), but not World<float>'s bits.
 #pragma once
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "initial_state.hpp"
@@ -35,6 +36,10 @@ class GpuInputs {
   // eq 121); clears pending().
   InitialState take_state();
   const BodyIds& ids() const { return ids_; }
+  // Snapshots (gpu_world.cpp): the bodies' shapes now (created ones
+  // appended), and the id table of a loaded snapshot.
+  const Scene& scene() const { return scene_; }
+  void set_ids(BodyIds ids) { ids_ = std::move(ids); }
   // Wakes (5.1) that inputs caused since the last take_state (the stage
   // counter's share of the inputs).
   std::uint64_t wakes() const { return wakes_; }

@@ -7,9 +7,13 @@
 
 #include "lockstep/gpu/formula_cases.hpp"
 #include "lockstep/gpu/gpu_engine.hpp"
+#include "gpu_snapshot.hpp"
 #include "lockstep/gpu/soa.hpp"
+#include "lockstep/scene_limits.hpp"
 #include "gpu_inputs.hpp"
 #include "pipeline_base.hpp"
+#include "snapshot_bytes.hpp"
+#include "snapshot_scene.hpp"
 
 namespace lockstep {
 namespace gpu {
@@ -71,11 +75,15 @@ std::unique_ptr<PipelineBase> make_pipeline(const InitialState& s, const GpuOpti
 
 struct GpuWorld::Impl {
   std::unique_ptr<PipelineBase> pipeline;
+  Scene scene;
+  GpuOptions options;
+  std::vector<std::uint8_t> scene_section;  // the snapshot's scene section (snapshot_scene.hpp)
+  std::uint64_t constants_hash = 0;
+  InitialState shape;  // the scene's initial state with every body at the origin: what a snapshot is checked against
   HostState mirror;
   int mirror_frame = -1;
   std::vector<F4> half, inert;  // constants: half extents (w: e), inverse inertia (w: mu)
   Vec3d gravity;
-  GpuOptions options;
   std::unique_ptr<GpuInputs> inputs;  // run-time inputs (gpu_inputs.hpp)
   StageCounters base, total;          // base: the counters of the pipelines the inputs replaced
   const std::vector<F4>& inert_now() const { return inputs->pending() ? inputs->inert() : inert; }
@@ -89,12 +97,48 @@ struct GpuWorld::Impl {
   }
 };
 
+namespace {
+
+// The scene as a snapshot's scene section holds it: every body at the origin, at rest.
+Scene at_origin(Scene scene) {
+  for (BodyDesc& b : scene.bodies) {
+    b.position = {};
+    b.orientation = {};
+    b.velocity = {};
+    b.angular_velocity = {};
+    b.asleep = false;
+  }
+  return scene;
+}
+
+int imm_stride_of(const InitialState& s) { return (s.ground_on ? 8 : 0) + 9 * static_cast<int>(s.sdf_grids.size()); }
+
+// The id table a snapshot holds (identity when it holds none).
+BodyIds ids_of(const GpuState& s, std::size_t bodies) {
+  BodyIds ids;
+  ids.reset(bodies);
+  if (!s.generations.empty()) (void)ids.assign(s.generations, s.slot_of_body);  // checked by read_gpu_state
+  return ids;
+}
+
+[[noreturn]] void foreign(SnapshotNumber number) {
+  throw SnapshotError(std::string("a snapshot of the ") + snapshot_number_name(number) +
+                          " engine cannot be loaded into the gpu engine",
+                      "header.number_type");
+}
+
+}  // namespace
+
 GpuWorld::GpuWorld(const Scene& scene, const GpuOptions& options) : impl_(std::make_unique<Impl>()) {
   const InitialState s = make_initial_state(scene);
+  impl_->scene = scene;
+  impl_->options = options;
+  impl_->scene_section = snap::encode_scene_section(scene);
+  impl_->constants_hash = snap::constants_hash(scene.constants);
+  impl_->shape = make_initial_state(at_origin(scene));
   impl_->half = s.half;
   impl_->inert = s.inert;
   impl_->gravity = scene.constants.gravity;
-  impl_->options = options;
   impl_->inputs = std::make_unique<GpuInputs>(scene);
   impl_->pipeline = make_pipeline(s, options);
 }
@@ -111,22 +155,31 @@ StageCounters sum(StageCounters a, const StageCounters& b) {
 }
 }  // namespace
 
-void GpuWorld::step() {
+// The inputs since the last step: a new pipeline from their state (what
+// step() does first, and save_state before it saves).
+void GpuWorld::flush() const {
   Impl& m = *impl_;
-  if (m.inputs->pending()) {  // the inputs since the last step: a new pipeline from their state
-    const int frame = m.pipeline->frame();
-    m.base = sum(m.base, m.pipeline->counters());
-    m.base.wakes += m.inputs->wakes();
-    const InitialState s = m.inputs->take_state();
-    m.half = s.half;
-    m.inert = s.inert;
-    GpuOptions quiet = m.options;
-    quiet.quiet = true;  // the first pipeline said which backend runs
-    m.pipeline = make_pipeline(s, quiet);
-    m.pipeline->set_frame(frame);
-    m.mirror_frame = -1;
-  }
-  m.pipeline->step();
+  if (!m.inputs->pending()) return;
+  const int frame = m.pipeline->frame();
+  m.base = sum(m.base, m.pipeline->counters());
+  m.base.wakes += m.inputs->wakes();
+  const InitialState s = m.inputs->take_state();
+  m.half = s.half;
+  m.inert = s.inert;
+  GpuOptions quiet = m.options;
+  quiet.quiet = true;  // the first pipeline said which backend runs
+  m.pipeline = make_pipeline(s, quiet);
+  m.pipeline->set_frame(frame);
+  m.mirror_frame = -1;
+  // The body set may have changed: the snapshot's scene section with it.
+  m.scene = m.inputs->scene();
+  m.scene_section = snap::encode_scene_section(m.scene);
+  m.shape = make_initial_state(at_origin(m.scene));
+}
+
+void GpuWorld::step() {
+  flush();
+  impl_->pipeline->step();
 }
 BodyId GpuWorld::apply(const Input& input) { return impl_->inputs->apply(input, *impl_->pipeline); }
 int GpuWorld::index_of(BodyId id) const { return static_cast<int>(impl_->inputs->ids().require(id, "index_of")); }
@@ -148,6 +201,96 @@ const StageCounters& GpuWorld::counters() const {
 }
 StageTimes GpuWorld::stage_times() const { return impl_->pipeline->stage_times(); }
 void GpuWorld::reset_stage_times() { impl_->pipeline->reset_stage_times(); }
+
+const Scene& GpuWorld::scene() const { return impl_->scene; }
+bool GpuWorld::jacobi() const { return impl_->options.pair_solver == GpuOptions::PairSolver::kJacobi; }
+
+std::vector<std::uint8_t> GpuWorld::save_state() const {
+  std::vector<std::uint8_t> out;
+  save_state(out);
+  return out;
+}
+
+void GpuWorld::save_state(std::vector<std::uint8_t>& out) const {
+  flush();
+  GpuState s;
+  impl_->pipeline->save(s);
+  s.counters = counters();
+  const BodyIds& ids = impl_->inputs->ids();
+  if (!ids.identity()) {
+    for (std::size_t k = 0; k < ids.slots(); ++k) s.generations.push_back(ids.generation(k));
+    for (std::size_t i = 0; i < ids.bodies(); ++i) s.slot_of_body.push_back(ids.slot_of(i));
+  }
+  out.clear();
+  snap::Writer w(out);
+  snap::write_header(w, SnapshotNumber::kGpu, static_cast<std::uint32_t>(s.pos.size()), impl_->constants_hash,
+                     static_cast<std::uint32_t>(s.frame));
+  w.bytes(impl_->scene_section.data(), impl_->scene_section.size());
+  write_gpu_state(out, s, jacobi() ? kSnapshotJacobi : 0, impl_->shape.oriented, impl_->pipeline->imm_stride());
+  snap::finish(out);
+}
+
+std::unique_ptr<GpuWorld> GpuWorld::load_state(const std::uint8_t* data, std::size_t size, const GpuOptions& options) {
+  const SnapshotInfo info = read_snapshot_info(data, size);
+  if (info.number != SnapshotNumber::kGpu) foreign(info.number);
+  snap::Reader r(data + kSnapshotHeaderSize, size - kSnapshotHeaderSize - kSnapshotChecksumSize);
+  Scene scene = snap::read_scene_section(r, info.body_count);
+  if (snap::constants_hash(scene.constants) != info.constants_hash)
+    throw SnapshotError("corrupt: the constants do not match the header's constants hash", "header.constants_hash");
+  try {
+    validate_scene_for("float", scene);
+  } catch (const SceneError& e) {
+    throw SnapshotError(std::string("the scene section cannot run on the gpu engine: ") + e.what(), "scene." + e.field);
+  }
+  const InitialState shape = make_initial_state(scene);
+  std::uint8_t opts = 0;
+  const GpuState st = read_gpu_state(data + kSnapshotHeaderSize + r.pos(), r.left(), shape, imm_stride_of(shape),
+                                     info.frame, opts);
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+    BodyDesc& d = scene.bodies[i];
+    const F4 p = st.pos[i], q = st.rot[i], v = st.vel[i], w = st.ang[i];
+    d.position = {p.x, p.y, p.z};
+    d.orientation = {q.x, q.y, q.z, q.w};
+    d.velocity = {v.x, v.y, v.z};
+    d.angular_velocity = {w.x, w.y, w.z};
+    d.asleep = (st.flags[i] & kFlagAsleep) != 0;
+  }
+  GpuOptions o = options;
+  o.pair_solver = (opts & kSnapshotJacobi) ? GpuOptions::PairSolver::kJacobi : GpuOptions::PairSolver::kColoured;
+  auto world = std::make_unique<GpuWorld>(scene, o);
+  world->impl_->pipeline->load(st);
+  world->impl_->mirror_frame = -1;
+  world->impl_->inputs->set_ids(ids_of(st, scene.bodies.size()));
+  return world;
+}
+
+void GpuWorld::restore_state(const std::uint8_t* data, std::size_t size) {
+  const SnapshotInfo info = read_snapshot_info(data, size);
+  // Inputs since the last step are rolled back with the rest: the pipeline
+  // (which they have not reached) is what the snapshot replaces.
+  if (impl_->inputs->pending()) impl_->inputs = std::make_unique<GpuInputs>(impl_->scene);
+  if (info.number != SnapshotNumber::kGpu) foreign(info.number);
+  const std::vector<std::uint8_t>& section = impl_->scene_section;
+  const std::size_t at = kSnapshotHeaderSize + section.size();
+  if (info.body_count == static_cast<std::uint32_t>(body_count()) && info.constants_hash == impl_->constants_hash &&
+      size >= at + kSnapshotChecksumSize && std::memcmp(data + kSnapshotHeaderSize, section.data(), section.size()) == 0) {
+    std::uint8_t opts = 0;
+    const GpuState st = read_gpu_state(data + at, size - at - kSnapshotChecksumSize, impl_->shape,
+                                       impl_->pipeline->imm_stride(), info.frame, opts);
+    if (((opts & kSnapshotJacobi) != 0) != jacobi())
+      throw SnapshotError(std::string("a snapshot of the ") + ((opts & kSnapshotJacobi) ? "gpu-jacobi" : "gpu") +
+                              " engine cannot be restored into the " + (jacobi() ? "gpu-jacobi" : "gpu") + " engine",
+                          "gpu.options");
+    impl_->pipeline->load(st);
+    impl_->mirror_frame = -1;
+    impl_->inputs = std::make_unique<GpuInputs>(impl_->scene);
+    impl_->inputs->set_ids(ids_of(st, static_cast<std::size_t>(body_count())));
+    impl_->base = StageCounters{};
+    return;
+  }
+  std::unique_ptr<GpuWorld> fresh = load_state(data, size, impl_->options);
+  impl_ = std::move(fresh->impl_);
+}
 
 BodySnapshot GpuWorld::body(int i) const {
   const HostState& s = impl_->state();
@@ -207,7 +350,8 @@ namespace {
 
 class GpuRun final : public EngineRun {
  public:
-  GpuRun(const Scene& scene, bool jacobi, bool quiet) : world_(scene, options(jacobi, quiet)), jacobi_(jacobi) {}
+  GpuRun(const Scene& scene, bool jacobi, bool quiet)
+      : owned_(std::make_unique<gpu::GpuWorld>(scene, options(jacobi, quiet))), world_(*owned_), jacobi_(jacobi) {}
   std::string name() const override { return jacobi_ ? "gpu-jacobi" : "gpu"; }
   std::string description() const override {
     return jacobi_ ? world_.description() + ", Jacobi pair solver" : world_.description();
@@ -220,6 +364,9 @@ class GpuRun final : public EngineRun {
   std::uint64_t state_hash() const override { return world_.state_hash(); }
   double energy() const override { return world_.energy(); }
   StageCounters counters() const override { return world_.counters(); }
+  std::vector<std::uint8_t> save_state() const override { return world_.save_state(); }
+  // A world loaded from a snapshot (resume_gpu_engine).
+  GpuRun(std::unique_ptr<gpu::GpuWorld> world, bool jacobi) : owned_(std::move(world)), world_(*owned_), jacobi_(jacobi) {}
 
  private:
   static gpu::GpuOptions options(bool jacobi, bool quiet) {
@@ -228,7 +375,8 @@ class GpuRun final : public EngineRun {
     if (jacobi) o.pair_solver = gpu::GpuOptions::PairSolver::kJacobi;
     return o;
   }
-  gpu::GpuWorld world_;
+  std::unique_ptr<gpu::GpuWorld> owned_;  // a world loaded from a snapshot
+  gpu::GpuWorld& world_;
   bool jacobi_;
 };
 
@@ -236,6 +384,15 @@ class GpuRun final : public EngineRun {
 
 std::unique_ptr<EngineRun> make_gpu_engine(const Scene& scene, bool jacobi, bool quiet) {
   return std::make_unique<GpuRun>(scene, jacobi, quiet);
+}
+
+ResumedEngine resume_gpu_engine(const std::vector<std::uint8_t>& bytes, bool quiet) {
+  gpu::GpuOptions o;
+  o.quiet = quiet;
+  std::unique_ptr<gpu::GpuWorld> world = gpu::GpuWorld::load_state(bytes.data(), bytes.size(), o);
+  Scene scene = world->scene();
+  const bool jacobi = world->jacobi();
+  return {std::make_unique<GpuRun>(std::move(world), jacobi), std::move(scene)};
 }
 
 }  // namespace lockstep

@@ -152,6 +152,9 @@ class Pipeline final : public PipelineBase {
   }
 
   void step() override;
+  void save(GpuState& out) override;
+  void load(const GpuState& in) override;
+  int imm_stride() const override { return sc_.imm_stride(); }
 
  private:
   struct Grid {
@@ -788,6 +791,170 @@ void Pipeline<B>::step() {
     static const char* const kWhat[] = {"position", "velocity", "angular velocity", "orientation"};
     throw RunError(frame_, error / 4, kWhat[error % 4], "not finite (NaN or infinity)");
   }
+}
+
+// Snapshots (gpu_state.hpp, docs/SNAPSHOTS.md "The GPU engine"): the state
+// after the last step, and the last frame's contacts by slot (the warm start
+// reads them through PreviousContacts: slot_of_, stamp_, count_, nbr_, imm_,
+// ground_mask_ and pair_ or man_ of the frame's parity).
+template <class B>
+void Pipeline<B>::save(GpuState& s) {
+  const auto n = static_cast<std::size_t>(n_);
+  auto down = [&](auto& host, auto& buf, std::size_t count) {
+    host.resize(count);
+    be_.download(host.data(), buf.data(), count);
+  };
+  s.frame = frame_;
+  s.counters = counters_;
+  down(s.pos, pos_, n); down(s.rot, rot_, n); down(s.aabb, aabb_, n); down(s.vel, vel_[0], n); down(s.ang, ang_[0], n);
+  down(s.flags, flags_, n); down(s.sleep_counter, sleep_counter_, n); down(s.sleep_frame, sleep_frame_, n);
+  if (oriented_) {
+    down(s.grow, grow_, n);
+    down(s.rest_count, rest_count_, n);
+    down(s.rest_body, rest_body_, kMaxRests * n);
+    down(s.rest_local, rest_local_, kMaxRests * n);
+    down(s.rest_point, rest_point_, kMaxRests * n);
+    down(s.rest_last, rest_last_, kMaxRests * n);
+  } else {
+    s.grow.clear(); s.rest_count.clear(); s.rest_body.clear(); s.rest_local.clear(); s.rest_point.clear(); s.rest_last.clear();
+  }
+  down(s.awake, list_[cur_], static_cast<std::size_t>(n_awake_));
+  s.stride = {stride_[0], stride_[1]};
+  s.colours = colours_;
+  s.frozen_dirty = frozen_dirty_;
+  s.slot_body.clear(); s.ground_mask.clear(); s.imm.clear(); s.nbr_begin.assign(1, 0); s.nbr.clear();
+  s.pair.clear(); s.man_count.clear(); s.man_feature.clear(); s.man_impulse.clear();
+  const int p = frame_ & 1;
+  std::vector<int> stamp, slot;
+  if (frame_ > 0) { down(stamp, stamp_[p], n); down(slot, slot_of_[p], n); }
+  be_.sync();
+  int active = 0;
+  for (std::size_t i = 0; i < stamp.size(); ++i) active += stamp[i] == frame_ ? 1 : 0;
+  if (active == 0) return;
+  const auto un = static_cast<std::size_t>(active);
+  s.slot_body.assign(un, -1);
+  for (std::size_t i = 0; i < n; ++i)
+    if (stamp[i] == frame_) s.slot_body.at(static_cast<std::size_t>(slot[i])) = static_cast<int>(i);
+  const int stride = stride_[p];
+  const auto per = static_cast<std::size_t>(sc_.imm_stride());
+  std::vector<int> count, nbr;
+  std::vector<ContactRecord> imm, pair;
+  std::vector<PairManifold> man;
+  down(count, count_[p], un);
+  down(s.ground_mask, ground_mask_[p], un);
+  down(imm, imm_[p], un * per);
+  down(nbr, nbr_[p], un * static_cast<std::size_t>(stride));
+  if (oriented_) down(man, man_[p], un * static_cast<std::size_t>(stride));
+  else down(pair, pair_[p], un * static_cast<std::size_t>(stride));
+  be_.sync();
+  // A ground corner's record is the last frame's only when its mask bit is
+  // set (ContactsK writes the corners in contact); the others are not read.
+  s.imm.reserve(un * per);
+  for (std::size_t e = 0; e < imm.size(); ++e) {
+    const int corner = static_cast<int>(e % per);
+    const bool stale = corner < sc_.ground_slots() && ((s.ground_mask[e / per] >> corner) & 1) == 0;
+    s.imm.push_back(stale ? F4{} : imm[e].a);
+  }
+  for (std::size_t k = 0; k < un; ++k) {
+    for (int e = 0; e < count[k]; ++e) {
+      const std::size_t t = k * static_cast<std::size_t>(stride) + static_cast<std::size_t>(e);
+      s.nbr.push_back(nbr[t]);
+      if (oriented_) {
+        s.man_count.push_back(man[t].count);
+        for (int u = 0; u < kSnapshotManifoldPoints; ++u) {
+          s.man_feature.push_back(u < man[t].count ? man[t].feature[u] : 0);
+          s.man_impulse.push_back(u < man[t].count ? man[t].st[u].a : F4{});
+        }
+      } else {
+        s.pair.push_back(pair[t].a);
+      }
+    }
+    s.nbr_begin.push_back(static_cast<int>(s.nbr.size()));
+  }
+}
+
+template <class B>
+void Pipeline<B>::load(const GpuState& s) {
+  const auto n = static_cast<std::size_t>(n_);
+  auto up = [&](auto& buf, const auto& host) {
+    buf.resize(std::max<std::size_t>(host.size(), 1));
+    be_.upload(buf.data(), host.data(), host.size());
+  };
+  frame_ = s.frame;
+  counters_ = s.counters;
+  up(pos_, s.pos); up(rot_, s.rot); up(aabb_, s.aabb); up(vel_[0], s.vel); up(ang_[0], s.ang);
+  up(flags_, s.flags); up(sleep_counter_, s.sleep_counter); up(sleep_frame_, s.sleep_frame);
+  const StageCounters& c = s.counters;
+  const Counter ctr[kCounterCount] = {c.integrate_velocity, c.damping, c.integrate_position, c.broadphase_bodies,
+                                      c.pairs_tested, c.ground_contacts, c.sdf_contacts, c.body_contacts,
+                                      c.solver_contacts, c.normal_impulses, c.restitution_bounces, c.friction_steps,
+                                      c.corrections, c.settling_bodies, c.sleep_updates, c.wakes};
+  be_.upload(ctr_.data(), ctr, kCounterCount);
+  if (oriented_) {
+    up(grow_, s.grow); up(rest_count_, s.rest_count); up(rest_body_, s.rest_body);
+    up(rest_local_, s.rest_local); up(rest_point_, s.rest_point); up(rest_last_, s.rest_last);
+  }
+  n_awake_ = static_cast<int>(s.awake.size());
+  be_.upload(list_[cur_].data(), s.awake.data(), s.awake.size());
+  stride_[0] = s.stride[0];
+  stride_[1] = s.stride[1];
+  colours_ = s.colours;
+  be_.fill_int(wake_flag_.data(), 0, n + 1);
+  be_.fill_int(stamp_[0].data(), -1, n + 1);
+  be_.fill_int(stamp_[1].data(), -1, n + 1);
+  const int p = frame_ & 1;
+  const auto active = s.slot_body.size();
+  if (active > 0) {
+    const int stride = stride_[p];
+    const auto per = static_cast<std::size_t>(sc_.imm_stride());
+    const auto entries = active * static_cast<std::size_t>(stride);
+    std::vector<int> stamp(n, -1), slot(n, 0), count(active), nbr(entries, 0);
+    std::vector<ContactRecord> imm(active * per), pair(oriented_ ? 0 : entries);
+    std::vector<PairManifold> man(oriented_ ? entries : 0);
+    for (std::size_t k = 0; k < active; ++k) {
+      const auto b = static_cast<std::size_t>(s.slot_body[k]);
+      stamp[b] = frame_;
+      slot[b] = static_cast<int>(k);
+      count[k] = s.nbr_begin[k + 1] - s.nbr_begin[k];
+      for (int e = 0; e < count[k]; ++e) {
+        const auto from = static_cast<std::size_t>(s.nbr_begin[k] + e);
+        const std::size_t t = k * static_cast<std::size_t>(stride) + static_cast<std::size_t>(e);
+        nbr[t] = s.nbr[from];
+        if (oriented_) {
+          man[t].count = s.man_count[from];
+          for (int u = 0; u < kSnapshotManifoldPoints; ++u) {
+            man[t].feature[u] = s.man_feature[from * kSnapshotManifoldPoints + static_cast<std::size_t>(u)];
+            man[t].st[u].a = s.man_impulse[from * kSnapshotManifoldPoints + static_cast<std::size_t>(u)];
+          }
+        } else {
+          pair[t].a = s.pair[from];
+        }
+      }
+    }
+    for (std::size_t e = 0; e < imm.size(); ++e) imm[e].a = s.imm[e];
+    be_.upload(stamp_[p].data(), stamp.data(), n);
+    be_.upload(slot_of_[p].data(), slot.data(), n);
+    up(count_[p], count);
+    count_[p].resize(n + 1);
+    up(ground_mask_[p], s.ground_mask);
+    up(imm_[p], imm);
+    up(nbr_[p], nbr);
+    if (oriented_) up(man_[p], man);
+    else up(pair_[p], pair);
+  }
+  // The sleeping/static grid: rebuilt now when the saved engine held a
+  // current one (it is a function of the frozen set, which has not changed
+  // since), else at the next step; not counted (the saved counters hold the
+  // build that made it).
+  frozen_dirty_ = true;
+  const int n_frozen = n_static_small_ + (n_ - n_static_ - n_awake_);
+  if (!s.frozen_dirty && fx_.contacts && n_ >= 2 && n_frozen > 0) {
+    frozen_grid_.bounds.resize(n);
+    be_.for_n(n_, FrozenBoundsK{body_, large_flag_.data(), frozen_grid_.bounds.data()});
+    build_grid(frozen_grid_, nullptr, n_, n_frozen);
+  }
+  frozen_dirty_ = s.frozen_dirty;
+  be_.sync();
 }
 
 }  // namespace lockstep::gpu

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "gpu_state.hpp"
 #include "initial_state.hpp"
 #include "lockstep/gpu/gpu_engine.hpp"
 #include "lockstep/gpu/soa.hpp"
@@ -29,6 +30,13 @@ class PipelineBase {
   virtual void download(HostState& out, bool full = false) = 0;
   // A pipeline rebuilt for run-time inputs goes on from this frame.
   void set_frame(int frame) { frame_ = frame; }
+  // Snapshots (gpu_state.hpp): everything following frames read, downloaded
+  // or uploaded by the same code on either backend. load expects a state
+  // checked against this pipeline's scene (gpu_snapshot.cpp).
+  virtual void save(GpuState& out) = 0;
+  virtual void load(const GpuState& in) = 0;
+  // Ground and SDF contact records per slot (8 with the ground, 9 per SDF volume).
+  virtual int imm_stride() const = 0;
 
   int frame() const { return frame_; }
   int body_count() const { return n_; }

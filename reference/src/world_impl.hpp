@@ -150,20 +150,34 @@ World<T>& World<T>::operator=(const World& other) {
 
 // docs/SPEC.md 7.2: the order of operations in a frame.
 template <class T>
-void World<T>::step() {
+void World<T>::step() { step(StageObserver{}); }
+
+template <class T>
+void World<T>::step(const StageObserver& after_stage) {
+  auto after = [&](FrameStage s) { if (after_stage) after_stage(s, *this); };
   ++frame_;
   Num<T>::take_faults();
   if (!forces_.empty()) apply_forces();                 // 0: eq 121 (run-time inputs)
+  after(FrameStage::forces);
   integrate_velocities();                               // 1: eqs 1, 5, 6, 13
+  after(FrameStage::integrate_velocities);
   const bool oriented = scene_.pair_contacts == PairModel::kOrientedBox;
   if (scene_.effects.sleep && oriented) wake_unsupported();  // 2a: eq 108
+  after(FrameStage::support_wake);
   broad_phase();                                        // 2: eqs 31, 82, 83, 107
+  after(FrameStage::broad_phase);
   narrow_phase();                                       // 3-4: eqs 32-47, 84, 85, 93; wake eq 81
+  after(FrameStage::narrow_phase);
   solve_contacts();                                     // 5: eqs 48-62, 76, 86-88, 94-97
+  after(FrameStage::solve);
   if (scene_.effects.settling) settle();                // 6: eqs 64-75, 77
+  after(FrameStage::settle);
   correct_positions();                                  // 7: eqs 63, 89
+  after(FrameStage::correct_positions);
   integrate_positions();                                // 8: eqs 2, 7-10
+  after(FrameStage::integrate_positions);
   if (scene_.effects.sleep) update_sleep();             // 9: eqs 78-80
+  after(FrameStage::sleep);
   if constexpr (!Num<T>::kExact) check_finite();
 }
 

@@ -343,6 +343,63 @@ def snapshots():
 
 snapshots()
 
+
+def recordings():
+    """Issue 32: `run --record` then `replay`: exit 0 and "no difference over
+    N frames" on the recording's engine, exit 1 naming frame, body, field and
+    stage on another number type, exit 1 naming the frame of a changed hash,
+    exit 2 with one line for a bad recording or inputs file; the gpu engine's
+    snapshots resume through the command line too."""
+    with open(os.path.join(WORK, "kicks.json"), "w") as f:
+        f.write('{"format": "lockstep-inputs", "version": 1, "inputs": [\n'
+                '  {"frame": 10, "kind": "impulse", "id": 3, "impulse": [0, 4, 1], "point": [0.5, 1, 0]},\n'
+                '  {"frame": 25, "kind": "set_velocity", "id": 1, "velocity": [1, 0, 0]}]}\n')
+    r = run("run", "pyramid", "--frames", "60", "--inputs", "kicks.json", "--record", "p.rec.json", "--snapshot-every", "20",
+            "--out", "p.csv", "--quiet")
+    check(r.returncode == 0 and os.path.exists(os.path.join(WORK, "p.rec.json")), "run --record exits 0 (%r)" % r.stderr)
+    rec = json.load(open(os.path.join(WORK, "p.rec.json")))
+    check(rec["format"] == "lockstep-recording" and rec["engine"] == "fixed" and len(rec["hashes"]) == 60 and
+          [s["frame"] for s in rec["snapshots"]] == [20, 40, 60] and len(rec["inputs"]) == 2,
+          "the recording holds the engine, 60 hashes, snapshots at 20, 40, 60 and 2 inputs")
+    hashes = open(os.path.join(WORK, "p.csv.hashes")).read().splitlines()[1:]
+    check([h.split(",")[1] for h in hashes] == rec["hashes"], "the recording's hashes are the run's .hashes")
+    r = run("replay", "p.rec.json", "--quiet")
+    check(r.returncode == 0 and r.stdout.startswith("replay: no difference over 60 frames"), "replay on fixed: exit 0, no difference (got %d %r)" % (r.returncode, r.stdout))
+    r = run("replay", "p.rec.json", "--engine", "double", "--quiet")
+    check(r.returncode == 1 and "differ first at frame 1 " in r.stdout and "frame 1: body " in r.stdout and "stage: " in r.stdout
+          and "different number types (fixed, double)" in r.stdout, "replay on double: exit 1, frame 1, body, stage, why (got %d %r)" % (r.returncode, r.stdout))
+    rec["hashes"][33] = ("0" if rec["hashes"][33][0] != "0" else "1") + rec["hashes"][33][1:]
+    json.dump(rec, open(os.path.join(WORK, "p-tampered.rec.json"), "w"))
+    r = run("replay", "p-tampered.rec.json", "--quiet")
+    check(r.returncode == 1 and "differ first at frame 34 " in r.stdout and "snapshot of frame 40" in r.stdout,
+          "a changed hash: exit 1 naming frame 34, compared at the snapshot of frame 40 (got %d %r)" % (r.returncode, r.stdout))
+    bad_inputs = os.path.join(WORK, "bad-inputs.json")
+    with open(bad_inputs, "w") as f:
+        f.write('{"format": "lockstep-inputs", "version": 1, "inputs": [{"frame": 5, "kind": "shove", "id": 1}]}')
+    with open(os.path.join(WORK, "bad.rec.json"), "w") as f:
+        f.write('{"format": "lockstep-recording", "version": 1, "engine": "fixed"}')
+    for args, says in [(["replay", "missing.rec.json"], "cannot read"),
+                       (["replay", "bad.rec.json"], "build: missing"),
+                       (["replay", "p.csv"], "not valid JSON"),
+                       (["run", "pyramid", "--inputs", "bad-inputs.json", "--out", "x.csv"], 'inputs[0].kind: "shove" is not an input kind'),
+                       (["run", "pyramid", "--frames", "4", "--inputs", "kicks.json", "--out", "x.csv"], "inputs[0].frame: 10 is outside the run's frames [1, 4]"),
+                       (["run", "--load-state", "missing.bin", "--record", "r.json"], "a recording starts at frame 0")]:
+        r = run(*args)
+        check(r.returncode == 2 and r.stderr.count("\n") == 1 and says in r.stderr,
+              "%s exits 2 with one line saying %r (got %d: %r)" % (" ".join(args), says, r.returncode, r.stderr))
+    # The gpu engine's snapshots through the command line: run to 2N = run to N + resume N.
+    if "gpu" in run("--version").stdout:
+        full = run("run", "bowl", "--engine", "gpu", "--frames", "40", "--out", "g-full.csv", "--quiet")
+        first = run("run", "bowl", "--engine", "gpu", "--frames", "20", "--out", "g-first.csv", "--quiet", "--save-state", "g.bin")
+        rest = run("run", "--load-state", "g.bin", "--frames", "20", "--out", "g-rest.csv", "--quiet")
+        h_full = open(os.path.join(WORK, "g-full.csv.hashes")).read().splitlines()[1:]
+        h_rest = open(os.path.join(WORK, "g-rest.csv.hashes")).read().splitlines()[1:] if rest.returncode == 0 else []
+        check(full.returncode == 0 and first.returncode == 0 and rest.returncode == 0 and h_rest == h_full[20:],
+              "gpu: run to 40 = run to 20 + resume 20 (got %r %r)" % (rest.stderr, h_rest[:1]))
+
+
+recordings()
+
 if failures:
     print("%d check(s) failed" % len(failures))
     sys.exit(1)

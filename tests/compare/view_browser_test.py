@@ -398,6 +398,48 @@ check(hashes is not None and "differs" not in hashes.group(1), "fixed and float 
 check(st.get("tolerance", {}) and st["tolerance"].get("position") == 0.05 and "trajectory tolerance" in dom,
       "the page names the trajectory tolerance it judges against (got %s)" % st.get("tolerance"))
 
+# A recording (issue 32): replayed on its own engine the page shows no
+# overlay; on double it shows "DIVERGED at frame 1" from frame 1 on; the
+# inputs' frames are marked on the slider.
+with open(os.path.join(WORK, "kicks.json"), "w") as f:
+    f.write('{"format": "lockstep-inputs", "version": 1, "inputs": [{"frame": 12, "kind": "set_velocity", "id": 2, '
+            '"velocity": [2, 1, 0]}, {"frame": 30, "kind": "wake", "id": 0}]}')
+r = run("run", "stack5", "--frames", "60", "--inputs", "kicks.json", "--record", "s5.rec.json", "--quiet", "--out", "s5r.csv")
+check(r.returncode == 0, "run --record (%s)" % r.stderr)
+for engine, diverged in [("fixed", -1), ("double", 1)]:
+    rv = run("view", "s5.rec.json", "--engine", engine, "--out", "rec-%s.html" % engine)
+    check(rv.returncode == 0, "view s5.rec.json --engine %s (%s)" % (engine, rv.stderr))
+    url = "file://" + os.path.join(WORK, "rec-%s.html" % engine)
+    st, dom = status(url + "#frame=20")
+    rec = st.get("recording") or {}
+    check(st.get("errors") == [] and st.get("boxes") == 5, "recording page on %s: 5 boxes, no errors (got %s, %s)" %
+          (engine, st.get("boxes"), st.get("errors")))
+    check(rec.get("inputs") == 2 and [m["frame"] for m in st.get("markers", []) if m["kind"] == "input"] == [12, 30],
+          "recording page on %s: the inputs' frames 12 and 30 are marked (got %s)" % (engine, st.get("markers")))
+    check(rec.get("diverged_frame") == diverged and rec.get("overlay") == (diverged >= 0),
+          "recording page on %s: diverged at %d, overlay %s (got %s)" % (engine, diverged, diverged >= 0, rec))
+    if diverged >= 0:
+        check(re.search(r'<div id="diverged">DIVERGED at frame 1</div>', dom) is not None,
+              "recording page on double: the overlay says DIVERGED at frame 1")
+        st0, _ = status(url + "#frame=0")
+        check((st0.get("recording") or {}).get("overlay") is False, "recording page on double: no overlay at frame 0")
+
+# A recording that creates a body at frame 20 and removes body 1 at frame 40:
+# 5 boxes, then 6, then 5 (a body is drawn only in the frames it exists).
+with open(os.path.join(WORK, "create-destroy.json"), "w") as f:
+    f.write('{"format": "lockstep-inputs", "version": 1, "inputs": [{"frame": 20, "kind": "create", "body": '
+            '{"half_extents": [0.25, 0.5, 0.25], "mass": 0.75, "position": [0.5, 5, 0]}}, '
+            '{"frame": 40, "kind": "destroy", "id": 1}]}')
+r = run("run", "stack5", "--frames", "60", "--inputs", "create-destroy.json", "--record", "cd.rec.json", "--quiet",
+        "--out", "cd.csv")
+check(r.returncode == 0, "run --record with a creation and a removal (%s)" % r.stderr)
+rv = run("view", "cd.rec.json", "--out", "rec-cd.html")
+check(rv.returncode == 0 and "6 bodies" in rv.stdout, "view of a recording with a creation and a removal (%s %s)" % (rv.stdout, rv.stderr))
+for f, boxes in [(10, 5), (30, 6), (50, 5)]:
+    st, _ = status("file://" + os.path.join(WORK, "rec-cd.html") + "#frame=%d" % f)
+    check(st.get("errors") == [] and st.get("boxes") == boxes,
+          "recording with a creation and a removal: %d boxes at frame %d (got %s, %s)" % (boxes, f, st.get("boxes"), st.get("errors")))
+
 if failures:
     print("%d check(s) failed" % len(failures))
     sys.exit(1)

@@ -251,4 +251,40 @@ TEST(View, LongRunsKeepOneSeriesValueInK) {
   EXPECT_EQ(run["energy"][83'333], 249'999.0);
 }
 
+// A recording's page (`lockstep view FILE.rec.json`): the inputs' frames and
+// the diverged frame reach the page's data, the note intact whatever its text.
+TEST(View, RecordingPageCarriesInputsAndDivergence) {
+  const Scene scene = *builtin_scene("stack5");
+  auto engine = make_engine("double", scene);
+  ViewRecorder rec("replay on double", "double", false);
+  rec.add(*engine, true);
+  engine->step();
+  rec.add(*engine, true);
+  ViewPage page;
+  page.scene = scene;
+  page.runs.push_back(rec.take());
+  ViewRecording r;
+  r.recorded_engine = "fixed";
+  r.engine = "double";
+  r.inputs = {{1, "set_velocity"}, {1, "wake"}};
+  r.diverged_frame = 1;
+  r.note = "recording </script><b>x</b> replayed on double: DIVERGED at frame 1";
+  page.recording = r;
+  const std::string html = view_html(page, load_view_libraries());
+  const std::string open = "<script id=\"lockstep-data\" type=\"application/json\">";
+  const std::size_t from = html.find(open) + open.size();
+  const nlohmann::json data = nlohmann::json::parse(html.substr(from, html.find("</script>", from) - from));
+  EXPECT_EQ(data["recording"]["diverged_frame"], 1);
+  EXPECT_EQ(data["recording"]["engine"], "double");
+  EXPECT_EQ(data["recording"]["recorded_engine"], "fixed");
+  ASSERT_EQ(data["recording"]["inputs"].size(), 2u);
+  EXPECT_EQ(data["recording"]["inputs"][1]["kind"], "wake");
+  EXPECT_EQ(data["recording"]["note"], r.note);
+  EXPECT_NE(html.find("id=\"diverged\""), std::string::npos) << "the overlay's element";
+  page.recording.reset();
+  const std::string plain = view_html(page, load_view_libraries());
+  const std::size_t from2 = plain.find(open) + open.size();
+  EXPECT_FALSE(nlohmann::json::parse(plain.substr(from2, plain.find("</script>", from2) - from2)).contains("recording"));
+}
+
 }  // namespace

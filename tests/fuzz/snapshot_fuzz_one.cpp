@@ -6,6 +6,7 @@
 #include "../../reference/src/snapshot_bytes.hpp"
 #include "lockstep/builtin_scenes.hpp"
 #include "lockstep/fixed/q16_num.hpp"
+#include "lockstep/gpu/gpu_engine.hpp"
 #include "lockstep/math/num_mp.hpp"
 #include "lockstep/snapshot.hpp"
 #include "lockstep/world.hpp"
@@ -48,9 +49,42 @@ Outcome load_as(const std::uint8_t* data, std::size_t size) {
   }
 }
 
+// The GPU engine's loader (GpuWorld::load_state, host build): the same contract.
+Outcome load_gpu(const std::uint8_t* data, std::size_t size) {
+  gpu::GpuOptions o;
+  o.backend = gpu::Backend::kHost;
+  o.quiet = true;
+  std::vector<std::uint8_t> once;
+  bool small = false;
+  try {
+    const std::unique_ptr<gpu::GpuWorld> w = gpu::GpuWorld::load_state(data, size, o);
+    once = w->save_state();
+    small = w->body_count() <= static_cast<int>(kMaxFuzzBodies);
+  } catch (const SnapshotError& e) {
+    if (std::string(e.what()).size() <= 10) throw FuzzFinding("SnapshotError with an empty message");
+    return Outcome::kRejected;
+  }
+  std::vector<std::uint8_t> twice;
+  try {
+    twice = gpu::GpuWorld::load_state(once.data(), once.size(), o)->save_state();
+  } catch (const SnapshotError& e) {
+    throw FuzzFinding(std::string("gpu: load_state refused what save_state wrote: ") + e.what());
+  }
+  if (twice != once) throw FuzzFinding("gpu: save(load(save(load(x)))) differs from save(load(x))");
+  if (!small) return Outcome::kLoaded;
+  try {
+    const std::unique_ptr<gpu::GpuWorld> w = gpu::GpuWorld::load_state(once.data(), once.size(), o);
+    for (int f = 0; f < kMaxSnapshotFuzzFrames; ++f) w->step();
+    return Outcome::kRan;
+  } catch (const RunError&) {
+    return Outcome::kStopped;
+  }
+}
+
 Outcome load_any(const std::uint8_t* data, std::size_t size) {
   const std::uint8_t number = size > 10 ? data[10] : 0;
   switch (number) {
+    case 5: return load_gpu(data, size);
     case 2: return load_as<float>(data, size);
     case 3: return load_as<double>(data, size);
     case 4: return load_as<Mp>(data, size);
@@ -98,6 +132,18 @@ std::vector<std::pair<std::string, std::vector<std::uint8_t>>> snapshot_seeds() 
   inputs.create_body(crate);
   inputs.add_force(inputs.id_of(2), {10.0, 0.0, 0.0}, {0.0, 1.0, 0.0});
   add("fixed_stack5_inputs_30", inputs.save_state());
+  gpu::GpuOptions o;
+  o.backend = gpu::Backend::kHost;
+  o.quiet = true;
+  auto run_gpu = [&o](const char* scene, int frames, bool jacobi) {
+    if (jacobi) o.pair_solver = gpu::GpuOptions::PairSolver::kJacobi;
+    gpu::GpuWorld w(*builtin_scene(scene), o);
+    for (int f = 0; f < frames; ++f) w.step();
+    return w.save_state();
+  };
+  add("gpu_pyramid_20", run_gpu("pyramid", 20, false));
+  add("gpu_stack5_6", run_gpu("stack5", 6, false));
+  add("gpu_jacobi_tip_corner_30", run_gpu("tip_corner", 30, true));
   return out;
 }
 

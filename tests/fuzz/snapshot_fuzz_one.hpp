@@ -1,4 +1,5 @@
-// One fuzz input through the snapshot loader (World<T>::load_state), shared
+// One fuzz input through the snapshot loaders (World<T>::load_state, and
+// GpuWorld::load_state for the GPU engine's snapshots, number type 5), shared
 // by the libFuzzer target (snapshot_fuzz.cpp) and the replay driver
 // (snapshot_replay.cpp). docs/FUZZING.md "Snapshots".
 //

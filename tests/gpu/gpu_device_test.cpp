@@ -157,6 +157,40 @@ TEST(GpuDevice, RunToRunDeterministic) {
   }
 }
 
+// Snapshots on the device (docs/SNAPSHOTS.md "The GPU engine"): a device
+// world saved mid-run and resumed (load_state on the device, restore_state
+// into a device world at another frame, load_state on the host build) steps
+// to the uninterrupted device world's hashes, which are the host build's;
+// the bytes saved on the device are the host build's bytes.
+TEST(GpuDevice, SnapshotsResumeOnTheDevice) {
+  LOCKSTEP_REQUIRE_DEVICE();
+  gpu::GpuOptions host;
+  host.backend = gpu::Backend::kHost;
+  for (const PairModel model : gpu_test::kBothModels) {
+    SCOPED_TRACE(gpu_test::model_name(model));
+    Scene s = gpu_test::settling_pile(4000, 10, false);
+    s.pair_contacts = model;
+    GpuWorld a(s, device_options()), h(s, host), other(s, device_options());
+    for (int f = 0; f < 30; ++f) { a.step(); h.step(); }
+    for (int f = 0; f < 7; ++f) other.step();
+    const std::vector<std::uint8_t> bytes = a.save_state();
+    ASSERT_EQ(bytes, h.save_state()) << "device and host build save the same bytes";
+    auto loaded = GpuWorld::load_state(bytes.data(), bytes.size(), device_options());
+    auto on_host = GpuWorld::load_state(bytes.data(), bytes.size(), host);
+    other.restore_state(bytes.data(), bytes.size());
+    for (int f = 31; f <= 90; ++f) {
+      a.step();
+      loaded->step();
+      on_host->step();
+      other.step();
+      ASSERT_EQ(loaded->state_hash(), a.state_hash()) << "frame " << f;
+      ASSERT_EQ(other.state_hash(), a.state_hash()) << "frame " << f;
+      ASSERT_EQ(on_host->state_hash(), a.state_hash()) << "frame " << f;
+    }
+    EXPECT_EQ(loaded->save_state(), a.save_state());
+  }
+}
+
 // Formula cases: the per-equation functions the kernels call, on random
 // inputs, on the device against the host build: 0 ulps apart (IEEE + - * /
 // and sqrt are correctly rounded on both, and --fmad=false forbids

@@ -183,6 +183,13 @@ std::string view_html(const ViewPage& page, const ViewLibraries& lib) {
                           {"final_distance", c.final_distance},
                           {"common_frames", c.common_frames}};
   }
+  if (page.recording) {
+    const ViewRecording& r = *page.recording;
+    nlohmann::json inputs = nlohmann::json::array();
+    for (const auto& [frame, kind] : r.inputs) inputs.push_back({{"frame", frame}, {"kind", kind}});
+    data["recording"] = {{"recorded_engine", r.recorded_engine}, {"engine", r.engine}, {"inputs", std::move(inputs)},
+                         {"diverged_frame", r.diverged_frame}, {"note", r.note}};
+  }
   std::string title = page.title;
   for (std::size_t at = title.find_first_of("<>&"); at != std::string::npos; at = title.find_first_of("<>&", at + 1))
     title.replace(at, 1, title[at] == '<' ? "&lt;" : title[at] == '>' ? "&gt;" : "&amp;");

@@ -4,6 +4,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -33,6 +34,39 @@ struct RunError : std::runtime_error {
   int body;          // body index, or -1 when not tied to one body
   std::string quantity;
 };
+
+// The stages of a frame (docs/SPEC.md 7.2), in their order; World<T>::step
+// with an observer calls it after each.
+enum class FrameStage : std::uint8_t {
+  forces,                // 0: eq 121, the forces of run-time inputs
+  integrate_velocities,  // 1: eqs 1, 5, 6, 13
+  support_wake,          // 2a: eq 108
+  broad_phase,           // 2: eqs 31, 82, 83, 107
+  narrow_phase,          // 3-4: contacts, the wake (81)
+  solve,                 // 5: the solver
+  settle,                // 6: settling
+  correct_positions,     // 7: eqs 63, 89, 110, 111
+  integrate_positions,   // 8: eqs 2, 7-10
+  sleep,                 // 9: eqs 78-80, 109
+};
+inline constexpr int kFrameStageCount = 10;
+// "0 forces", "1 integrate_velocities", "2a support_wake", ...: SPEC 7.2's
+// number and the stage's name.
+inline const char* frame_stage_name(FrameStage s) {
+  switch (s) {
+    case FrameStage::forces: return "0 forces";
+    case FrameStage::integrate_velocities: return "1 integrate_velocities";
+    case FrameStage::support_wake: return "2a support_wake";
+    case FrameStage::broad_phase: return "2 broad_phase";
+    case FrameStage::narrow_phase: return "3-4 narrow_phase";
+    case FrameStage::solve: return "5 solve";
+    case FrameStage::settle: return "6 settle";
+    case FrameStage::correct_positions: return "7 correct_positions";
+    case FrameStage::integrate_positions: return "8 integrate_positions";
+    case FrameStage::sleep: return "9 sleep";
+  }
+  return "?";
+}
 
 template <class T>
 struct Body {
@@ -114,6 +148,15 @@ class World {
 
   // Advances one frame (docs/SPEC.md 7.2). Throws RunError on a numeric fault.
   void step();
+  // step() with a look inside the frame: after_stage(stage, *this) is called
+  // after each stage of docs/SPEC.md 7.2 in order, a stage the scene's
+  // effects leave out included (the world is then as the stage before left
+  // it). With an observer that changes nothing the frame's bits are step()'s.
+  // For tools that bisect a frame (`lockstep replay`) and tests that perturb
+  // one through the public inputs (what the observer changes, the rest of the
+  // frame sees).
+  using StageObserver = std::function<void(FrameStage, World&)>;
+  void step(const StageObserver& after_stage);
   int frame() const { return frame_; }
   const Scene& scene() const { return scene_; }
   const Params<T>& params() const { return P_; }

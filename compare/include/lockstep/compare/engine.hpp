@@ -48,6 +48,13 @@ struct ContactSnapshot {
   double penetration = 0;
 };
 
+// Every body's state after one stage of a frame (`lockstep replay`'s
+// bisection): the stage's name ("5 solve", docs/SPEC.md 7.2) and the bodies.
+struct StageState {
+  std::string stage;
+  std::vector<BodySnapshot> bodies;
+};
+
 class EngineRun {
  public:
   virtual ~EngineRun() = default;
@@ -66,9 +73,13 @@ class EngineRun {
   virtual bool has_contacts() const { return false; }
   // The contacts found in the last step, in the engine's order.
   virtual std::vector<ContactSnapshot> contacts() const { return {}; }
-  // The engine's snapshot (docs/SNAPSHOTS.md); the CPU engines have them, the
-  // others throw std::invalid_argument.
-  // Inline: the GPU engine's library derives from EngineRun without linking this one.
+  // Steps one frame and returns every body's state after each of its stages
+  // (docs/SPEC.md 7.2), in order; the frame's bits are step()'s. An engine
+  // that cannot stop between stages (gpu) steps and returns nothing.
+  virtual std::vector<StageState> step_stages() {
+    step();
+    return {};
+  }
   // Applies a run-time input now (lockstep/input.hpp, docs/SPEC.md "Run-time
   // inputs"): input.frame must be frame() + 1. Every engine of
   // engine_names() implements it; throws std::invalid_argument for a bad
@@ -77,9 +88,13 @@ class EngineRun {
   virtual void apply(const Input& /*input*/) {
     throw std::invalid_argument("the " + name() + " engine takes no run-time inputs");
   }
+  // The engine's snapshot (docs/SNAPSHOTS.md); every engine of
+  // engine_names() has them (the gpu engine's: "The GPU engine"), others
+  // throw std::invalid_argument.
+  // Inline: the GPU engine's library derives from EngineRun without linking this one.
   virtual std::vector<std::uint8_t> save_state() const {
     throw std::invalid_argument("the " + name() +
-                                " engine has no snapshots (the CPU engines fixed, float, double and mp have)");
+                                " engine has no snapshots (the engines fixed, float, double, mp and gpu have)");
   }
 };
 
@@ -111,9 +126,9 @@ void set_quiet_engines(bool quiet);
 // "host build only (no CUDA)", or "not built".
 std::string gpu_build_description();
 
-// A CPU engine resumed from a snapshot: World<T>::load_state on the number
-// type the snapshot's header names, and the loaded world's scene. Throws
-// SnapshotError for a bad snapshot.
+// An engine resumed from a snapshot: World<T>::load_state on the number type
+// the snapshot's header names (GpuWorld::load_state for the gpu engine's),
+// and the loaded world's scene. Throws SnapshotError for a bad snapshot.
 struct ResumedEngine {
   std::unique_ptr<EngineRun> engine;
   Scene scene;
@@ -129,6 +144,7 @@ class WorldRun final : public EngineRun {
   std::string name() const override { return Num<T>::kName; }
   std::string description() const override;
   void step() override { world_.step(); }
+  std::vector<StageState> step_stages() override;
   void apply(const Input& input) override { world_.apply(input); }
   int frame() const override { return world_.frame(); }
   int body_count() const override { return static_cast<int>(world_.bodies().size()); }

@@ -9,6 +9,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "lockstep/compare/engine.hpp"
@@ -127,8 +128,20 @@ struct ViewComparison {
 };
 ViewComparison compare_runs(const std::vector<ViewRun>& runs, const CompareTolerances& tolerances);
 
+// A recording replayed (`lockstep view FILE.rec.json`, docs/RECORDINGS.md):
+// the inputs' frames (marked on the slider) and the first frame whose
+// replayed hash differs from the recorded one (the page's "DIVERGED at frame
+// N" overlay from that frame on).
+struct ViewRecording {
+  std::string recorded_engine, engine;
+  std::vector<std::pair<int, std::string>> inputs;  // (frame, kind)
+  int diverged_frame = -1;                          // -1: the replay agrees on every frame
+  std::string note;                                 // one line: what was replayed and how it compares
+};
+
 struct ViewPage {
   std::string title;
+  std::optional<ViewRecording> recording;
   Scene scene;
   std::vector<ViewRun> runs;
   std::optional<ViewComparison> comparison;

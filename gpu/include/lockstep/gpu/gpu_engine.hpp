@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "lockstep/compare/engine.hpp"
 #include "lockstep/input.hpp"
@@ -22,6 +23,9 @@ namespace lockstep {
 // (GpuOptions::PairSolver::kJacobi, name() "gpu-jacobi").
 // `quiet`: no note on stderr when it falls back to the host build.
 std::unique_ptr<EngineRun> make_gpu_engine(const Scene& scene, bool jacobi = false, bool quiet = false);
+// The "gpu" (or "gpu-jacobi") engine resumed from its snapshot
+// (GpuWorld::load_state), and the snapshot's scene. Throws SnapshotError.
+ResumedEngine resume_gpu_engine(const std::vector<std::uint8_t>& bytes, bool quiet = false);
 
 namespace gpu {
 
@@ -133,8 +137,33 @@ class GpuWorld {
   BodySnapshot body(int i) const;
   std::uint64_t state_hash() const;  // eq 92 over the IEEE binary64 bits, like World<float>
   double energy() const;             // (J), evaluated in double like World<float>
+  // The scene (after load_state: the snapshot's, its bodies' initial state
+  // the saved state).
+  const Scene& scene() const;
+  bool jacobi() const;  // the Jacobi pair solver (GpuOptions::PairSolver::kJacobi)
+
+  // Snapshots (docs/SNAPSHOTS.md "The GPU engine"): the header and scene
+  // section of World<T>'s snapshots (number type 5, gpu), then everything the
+  // engine's following frames read: per body its pose, velocities, AABB,
+  // sleep state, growth and eq 108's records; the awake list in its order;
+  // the last frame's contacts by slot with their impulses (the warm start,
+  // eq 96); the id table; the counters. Restoring and stepping gives the
+  // hashes the saved engine would have, on the host build and on the device
+  // (one code path). Inputs applied since the last step are taken up first,
+  // as the next step would (the pipeline is rebuilt from them).
+  std::vector<std::uint8_t> save_state() const;
+  void save_state(std::vector<std::uint8_t>& out) const;
+  // A world from a snapshot alone (the pair solver is the snapshot's; the
+  // backend as `options` asks). Throws SnapshotError for a truncated,
+  // corrupt or foreign snapshot, naming the field.
+  static std::unique_ptr<GpuWorld> load_state(const std::uint8_t* data, std::size_t size, const GpuOptions& options = {});
+  // Replaces this world's state; when the snapshot's scene section is this
+  // world's, only the state is read (rollback), else the world is rebuilt.
+  // Throws SnapshotError (then this world is unchanged).
+  void restore_state(const std::uint8_t* data, std::size_t size);
 
  private:
+  void flush() const;  // takes up the inputs since the last step (a new pipeline)
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
