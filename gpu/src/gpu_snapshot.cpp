@@ -102,6 +102,16 @@ void write_gpu_state(std::vector<std::uint8_t>& out, const GpuState& s, std::uin
         f4(w, s.rest_point[e]);
         f4(w, s.rest_last[e]);
       }
+      if (!s.sleep_parent.empty() && (s.flags[i] & kFlagAsleep) != 0) {  // eq 124's record of a sleeper
+        w.varint(static_cast<std::uint64_t>(s.sleep_parent[i] + 1));  // 0: none
+        const int count = s.sleep_count[i];
+        w.varint(static_cast<std::uint64_t>(count));
+        for (int k = 0; k < count && k < kMaxSupportPoints; ++k) {
+          const F4& a = s.sleep_arms[i * kMaxSupportPoints + static_cast<std::size_t>(k)];
+          f32(w, a.x);
+          f32(w, a.z);
+        }
+      }
     }
   }
   w.varint(s.awake.size());
@@ -164,6 +174,11 @@ GpuState read_gpu_state(const std::uint8_t* data, std::size_t size, const Initia
   if (oriented) {
     s.grow.resize(n); s.rest_count.assign(n, 0); s.rest_body.assign(kSnapshotRests * n, 0);
     s.rest_local.assign(kSnapshotRests * n, F4{}); s.rest_point.assign(kSnapshotRests * n, F4{}); s.rest_last.assign(kSnapshotRests * n, F4{});
+    if (init.fx.sleep) {  // eq 124's records
+      s.sleep_parent.assign(n, kLoadNone);
+      s.sleep_count.assign(n, 0);
+      s.sleep_arms.assign(static_cast<std::size_t>(kMaxSupportPoints) * n, F4{});
+    }
   }
   std::size_t awake_count = 0;
   for (std::size_t i = 0; i < n; ++i) {
@@ -207,6 +222,23 @@ GpuState read_gpu_state(const std::uint8_t* data, std::size_t size, const Initia
         s.rest_local[e] = in.f4(f + ".local", kMaxCoordinate);
         s.rest_point[e] = in.f4(f + ".point", kMaxCoordinate);
         s.rest_last[e] = in.f4(f + ".last", kMaxCoordinate);
+      }
+      if (init.fx.sleep && (flags & kFlagAsleep) != 0) {  // eq 124's record
+        const std::uint64_t parent = in.r.varint("bodies.support.parent");
+        if (parent > n || parent == i + 1 || (parent > 0 && (init.flags[parent - 1] & kFlagStatic)))
+          refuse(b + ".support.parent", "load parent " + std::to_string(static_cast<std::int64_t>(parent) - 1) +
+                                            " is not another dynamic body of the " + std::to_string(n));
+        s.sleep_parent[i] = static_cast<int>(parent) - 1;
+        const std::uint64_t count = in.r.varint("bodies.support.count");
+        if (count > static_cast<std::uint64_t>(kMaxSupportPoints) + 1)
+          refuse(b + ".support.count", std::to_string(count) + " support points; at most " +
+                                           std::to_string(kMaxSupportPoints + 1) + " (many)");
+        s.sleep_count[i] = static_cast<int>(count);
+        for (int k = 0; k < s.sleep_count[i] && k < kMaxSupportPoints; ++k) {
+          F4& a = s.sleep_arms[i * kMaxSupportPoints + static_cast<std::size_t>(k)];
+          a.x = in.bounded(b + ".support.arms", kMaxCoordinate);
+          a.z = in.bounded(b + ".support.arms", kMaxCoordinate);
+        }
       }
     }
   }

@@ -26,6 +26,11 @@ struct GpuState {
   std::vector<int> rest_count;               // oriented-box model: eq 108's records
   std::vector<int> rest_body;                // kSnapshotRests per body
   std::vector<F4> rest_local, rest_point, rest_last;
+  // oriented-box model with the sleep effect: eq 124's records (read while a
+  // body sleeps): its load parent, its support points' count and lever arms
+  // (kMaxSupportPoints per body, their horizontal parts).
+  std::vector<int> sleep_parent, sleep_count;
+  std::vector<F4> sleep_arms;
   std::vector<int> awake;                    // the awake list, in the engine's order
   // The last frame's contacts, by slot (the warm start, eq 96).
   std::array<int, 2> stride{16, 16};         // neighbour-list blocks of the two frame parities

@@ -815,7 +815,14 @@ void Pipeline<B>::save(GpuState& s) {
     down(s.rest_local, rest_local_, kMaxRests * n);
     down(s.rest_point, rest_point_, kMaxRests * n);
     down(s.rest_last, rest_last_, kMaxRests * n);
+    s.sleep_parent.clear(); s.sleep_count.clear(); s.sleep_arms.clear();
+    if (fx_.sleep) {  // eq 124's records
+      down(s.sleep_parent, sl_parent_, n);
+      down(s.sleep_count, sl_count_, n);
+      down(s.sleep_arms, sl_arms_, static_cast<std::size_t>(kMaxSupportPoints) * n);
+    }
   } else {
+    s.sleep_parent.clear(); s.sleep_count.clear(); s.sleep_arms.clear();
     s.grow.clear(); s.rest_count.clear(); s.rest_body.clear(); s.rest_local.clear(); s.rest_point.clear(); s.rest_last.clear();
   }
   down(s.awake, list_[cur_], static_cast<std::size_t>(n_awake_));
@@ -893,6 +900,9 @@ void Pipeline<B>::load(const GpuState& s) {
   if (oriented_) {
     up(grow_, s.grow); up(rest_count_, s.rest_count); up(rest_body_, s.rest_body);
     up(rest_local_, s.rest_local); up(rest_point_, s.rest_point); up(rest_last_, s.rest_last);
+    if (fx_.sleep && !s.sleep_parent.empty()) {  // eq 124's records
+      up(sl_parent_, s.sleep_parent); up(sl_count_, s.sleep_count); up(sl_arms_, s.sleep_arms);
+    }
   }
   n_awake_ = static_cast<int>(s.awake.size());
   be_.upload(list_[cur_].data(), s.awake.data(), s.awake.size());
