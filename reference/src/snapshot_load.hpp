@@ -78,8 +78,9 @@ void World<T>::read_moving_state(snap::Reader& r, std::uint32_t frame, bool deri
             !within(rec.last, snap::kMaxCoordinate))
           refuse("rests", "a support point is not finite or not within |x| < 32768 m");
       }
-      SleepSupport& sup = sleep_support_[i];
-      sup = SleepSupport{};
+      SleepSupport& sup = sleep_support_[i];  // the arms past count are never read: not cleared
+      sup.parent = kLoadNone;
+      sup.count = 0;
       if ((flags & 0x80) != 0) {  // eq 124's record
         const std::uint64_t key = r.varint("support.parent");
         if (key != 0) {
