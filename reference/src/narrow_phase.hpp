@@ -279,12 +279,11 @@ void World<T>::narrow_phase() {
     for (auto it = settle_order_.rbegin(); it != settle_order_.rend(); ++it) {
       const int idx = *it;
       const auto i = static_cast<std::size_t>(idx);
-      const bool carries = form_load(idx, load_children_);
+      const auto [first, last] = form_load(idx, load_children_);
       check_faults(idx, "load (eq 117)");
+      const bool carries = first != last;
       bool child_tips = false;
-      for (auto c = std::lower_bound(load_children_.begin(), load_children_.end(), std::pair<int, int>{idx, -1});
-           c != load_children_.end() && c->first == idx; ++c)
-        child_tips = child_tips || load_tips_[static_cast<std::size_t>(c->second)] != 0;
+      for (auto c = first; c != last; ++c) child_tips = child_tips || load_tips_[static_cast<std::size_t>(c->second)] != 0;
       // no load children, or held: eq 112's answer stands
       if (carries && loaded[i] == 0 &&
           !load_over_support(support_arms_[i].data(), n_arms[i], load_offset_[i], Vec3<T>{T{}, one, T{}},
@@ -310,10 +309,11 @@ void World<T>::narrow_phase() {
 }
 
 // eq 117: body idx's load (load_mass_, load_offset_) from its children in
-// `children` ((parent, child), sorted), whose loads are formed; whether it
-// has any.
+// `children` ((parent, child), sorted), whose loads are formed; returns its
+// children's range there.
 template <class T>
-bool World<T>::form_load(int idx, const std::vector<std::pair<int, int>>& children) {
+auto World<T>::form_load(int idx, const LoadChildren& children)
+    -> std::pair<LoadChildren::const_iterator, LoadChildren::const_iterator> {
   const auto i = static_cast<std::size_t>(idx);
   const T cap = Num<T>::from_double(kLoadMassCap);
   const auto first = std::lower_bound(children.begin(), children.end(), std::pair<int, int>{idx, -1});
@@ -328,7 +328,7 @@ bool World<T>::form_load(int idx, const std::vector<std::pair<int, int>>& childr
   }
   load_mass_[i] = mass;
   load_offset_[i] = offset;
-  return first != last;
+  return {first, last};
 }
 
 // eq 124: with an awake body resting on a sleeper (sleeper_children_ holds
@@ -356,7 +356,8 @@ void World<T>::sleeper_loads() {
   std::sort(sleeper_loads_.begin(), sleeper_loads_.end(), [&](int a, int b) { return before(b, a); });
   sleeper_loads_.erase(std::unique(sleeper_loads_.begin(), sleeper_loads_.end()), sleeper_loads_.end());
   for (const int idx : sleeper_loads_) {
-    const bool carries = form_load(idx, sleeper_children_);
+    const auto [first, last] = form_load(idx, sleeper_children_);
+    const bool carries = first != last;
     check_faults(idx, "sleeper load (eq 124)");
     const SleepSupport& rec = sleep_support_[static_cast<std::size_t>(idx)];
     if (carries && !sleeper_load_over_support(rec.arms.data(), rec.count, load_offset_[static_cast<std::size_t>(idx)]))

@@ -23,6 +23,16 @@ void World<T>::read_moving_state(snap::Reader& r, std::uint32_t frame, bool deri
   };
   auto within = [](const Vec3<T>& x, double limit) { return C::within(x.x, limit) && C::within(x.y, limit) && C::within(x.z, limit); };
   std::size_t i = 0;
+  // Another dynamic body, named relative to body i as zigzag(other - i).
+  auto other_body = [&](std::uint64_t zz, const char* field, const char* what) {
+    const std::int64_t d = static_cast<std::int64_t>(zz >> 1) ^ -static_cast<std::int64_t>(zz & 1);
+    const std::int64_t other = static_cast<std::int64_t>(i) + d;
+    if (other < 0 || other >= static_cast<std::int64_t>(n) || other == static_cast<std::int64_t>(i) ||
+        bodies_[static_cast<std::size_t>(other)].is_static)
+      refuse(field, std::string(what) + " " + std::to_string(other) + " is not another dynamic body of the " +
+                        std::to_string(n));
+    return static_cast<int>(other);
+  };
   try {
     for (; i < n; ++i) {
       Body<T>& b = bodies_[i];
@@ -63,14 +73,7 @@ void World<T>::read_moving_state(snap::Reader& r, std::uint32_t frame, bool deri
       rests.resize(records);
       for (Rest& rec : rests) {
         const std::uint64_t key = r.varint("rests.body");
-        const std::uint64_t zz = key >> 1;
-        const std::int64_t d = static_cast<std::int64_t>(zz >> 1) ^ -static_cast<std::int64_t>(zz & 1);
-        const std::int64_t other = static_cast<std::int64_t>(i) + d;
-        if (other < 0 || other >= static_cast<std::int64_t>(n) || other == static_cast<std::int64_t>(i) ||
-            bodies_[static_cast<std::size_t>(other)].is_static)
-          refuse("rests.body", "supporter " + std::to_string(other) + " is not another dynamic body of the " +
-                                   std::to_string(n));
-        rec.body = static_cast<int>(other);
+        rec.body = other_body(key >> 1, "rests.body", "supporter");
         rec.local = get_vec("rests.local");
         rec.rest = get_vec("rests.rest");
         rec.last = (key & 1) != 0 ? get_vec("rests.last") : rec.rest;
@@ -83,16 +86,7 @@ void World<T>::read_moving_state(snap::Reader& r, std::uint32_t frame, bool deri
       sup.count = 0;
       if ((flags & 0x80) != 0) {  // eq 124's record
         const std::uint64_t key = r.varint("support.parent");
-        if (key != 0) {
-          const std::uint64_t zz = key - 1;
-          const std::int64_t d = static_cast<std::int64_t>(zz >> 1) ^ -static_cast<std::int64_t>(zz & 1);
-          const std::int64_t other = static_cast<std::int64_t>(i) + d;
-          if (other < 0 || other >= static_cast<std::int64_t>(n) || other == static_cast<std::int64_t>(i) ||
-              bodies_[static_cast<std::size_t>(other)].is_static)
-            refuse("support.parent", "load parent " + std::to_string(other) + " is not another dynamic body of the " +
-                                         std::to_string(n));
-          sup.parent = static_cast<int>(other);
-        }
+        if (key != 0) sup.parent = other_body(key - 1, "support.parent", "load parent");
         const std::uint64_t count = r.varint("support.count");
         if (count > static_cast<std::uint64_t>(kMaxSupportPoints) + 1)
           refuse("support.count", std::to_string(count) + " support points; at most " +

@@ -262,7 +262,9 @@ class World {
   void wake_touched(const std::vector<Contact<T>>& pair_contacts);  // sleep.hpp
   void wake_unsupported();       // sleep.hpp (eq 108)
   void record_supports(std::size_t i);  // sleep.hpp (eqs 108, 124)
-  bool form_load(int idx, const std::vector<std::pair<int, int>>& children);  // narrow_phase.hpp (eq 117)
+  using LoadChildren = std::vector<std::pair<int, int>>;  // (load parent, child), sorted (eqs 117, 124)
+  std::pair<LoadChildren::const_iterator, LoadChildren::const_iterator> form_load(
+      int idx, const LoadChildren& children);  // narrow_phase.hpp (eq 117)
   void sleeper_loads();          // narrow_phase.hpp (eq 124)
   void wake_loaded();            // sleep.hpp (eq 124)
   void solve_contacts();         // contact_solver.hpp
