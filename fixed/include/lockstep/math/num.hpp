@@ -1,6 +1,7 @@
 // Num<T>: what the physics needs of a number type beyond + - * / and <.
 // Specialised for float and double here, for Q16 in lockstep/fixed/q16_num.hpp
-// and for Boost.Multiprecision in lockstep/math/num_mp.hpp.
+// and for Boost.Multiprecision in lockstep/math/num_mp.hpp (reference/include).
+// Lives in fixed/include so that fixed/ includes nothing from reference/.
 #pragma once
 #include <cmath>
 #include <cstdint>
