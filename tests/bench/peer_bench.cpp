@@ -1,12 +1,14 @@
 // peer_bench: one scene on one engine, measured the same way for every engine
-// (peer_metrics.hpp): ms per step over all frames (stepping only, one thread;
-// the process's CPU time, and the wall clock), the frame from which every
-// body stayed asleep, columns standing at the end, and the worst penetration
-// into the ground and between two boxes over all frames. tests/bench/peers.py runs it for Bullet, lockstep's engines
+// (peer_metrics.hpp): ms per step over all frames and over the busy frames
+// 31-120 (stepping only, one thread; the process's CPU time, and the wall
+// clock), the frame from which every body stayed asleep, columns standing at
+// the end, and the worst penetration into the ground and between two boxes
+// over all frames. tests/bench/peers.py runs it for Bullet, lockstep's engines
 // and Jolt side by side (README "Speed").
 //
-//   peer_bench run SCENE --engine bullet|fixed|float|double|mp|gpu [--frames N]
-//   peer_bench measure SCENE TRAJECTORY.csv --engine NAME [--ms-per-step CPU] [--wall-ms-per-step WALL]
+//   peer_bench run SCENE --engine bullet|fixed|float|double|mp|gpu [--frames N] [--step-times OUT]
+//   peer_bench measure SCENE TRAJECTORY.csv --engine NAME [--step-times FILE]
+//                      [--ms-per-step CPU] [--wall-ms-per-step WALL]
 //   peer_bench columns --engine E [--count N] [--all]
 //
 // SCENE is a built-in scene name or a scene JSON file. `run` steps the engine
@@ -15,9 +17,19 @@
 // reads a trajectory with a row per body per frame, in `lockstep run`'s CSV
 // columns (frame,body,px,py,pz,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz,asleep), as
 // written by `lockstep run` or by peers.py for Jolt. Each prints one JSON line.
+// Step times: a text file with one line per frame, "CPU_SECONDS WALL_SECONDS"
+// of that frame's step (frame 1 first). `run --step-times OUT` writes its
+// own; `measure --step-times FILE` reads one (peers.py's Jolt worker writes
+// it) and summarises it by the same code as `run` (StepTimes below):
+// ms_per_step over all frames, busy_ms_per_step over frames 31-120 (1-based:
+// the 90 steps while the cubes of pile1000 and boxfall1000 land and collide;
+// over the frames there are when a run is shorter, null when it has fewer
+// than 31). Without step times, `measure` reports --ms-per-step and
+// --wall-ms-per-step as given and no busy figure.
 // `columns` runs the harder columns of tests/peer (columns.hpp, the seed of
 // peer_stacking_test) on one engine and prints each column that does not
 // stand and why (--all: every column), then the count.
+#include <algorithm>
 #include <chrono>
 #include <ctime>
 #include <cstdio>
@@ -55,13 +67,73 @@ double cpu_seconds() {
   return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
+// The busy frames (1-based, inclusive): pile1000's and boxfall1000's cubes
+// land and collide, nothing is asleep yet (issue 29).
+constexpr int kBusyFirst = 31, kBusyLast = 120;
+
+// Per-frame step times (s) and what peer_bench reports of them: one code for
+// every engine, whether stepped here or measured from a file.
+struct StepTimes {
+  std::vector<double> cpu, wall;  // [f - 1]: frame f's step
+  void add(double c, double w) {
+    cpu.push_back(c);
+    wall.push_back(w);
+  }
+  // Mean ms per step over frames [first, last] (1-based, clipped to the
+  // frames there are); negative when none is there.
+  static double mean_ms(const std::vector<double>& t, int first, int last) {
+    const int hi = std::min(last, static_cast<int>(t.size()));
+    if (first < 1 || hi < first) return -1;
+    double sum = 0;
+    for (int f = first; f <= hi; ++f) sum += t[static_cast<std::size_t>(f - 1)];
+    return 1e3 * sum / (hi - first + 1);
+  }
+  double cpu_ms() const { return cpu.empty() ? 0.0 : mean_ms(cpu, 1, static_cast<int>(cpu.size())); }
+  double wall_ms() const { return wall.empty() ? 0.0 : mean_ms(wall, 1, static_cast<int>(wall.size())); }
+  double busy_cpu_ms() const { return mean_ms(cpu, kBusyFirst, kBusyLast); }
+  double busy_wall_ms() const { return mean_ms(wall, kBusyFirst, kBusyLast); }
+
+  void write(const std::string& path) const {
+    std::FILE* f = std::fopen(path.c_str(), "w");
+    if (!f) throw std::invalid_argument("--step-times: cannot write '" + path + "'");
+    for (std::size_t i = 0; i < cpu.size(); ++i) std::fprintf(f, "%.9f %.9f\n", cpu[i], wall[i]);
+    std::fclose(f);
+  }
+  static StepTimes read(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) throw std::invalid_argument("--step-times: cannot read '" + path + "'");
+    StepTimes t;
+    std::string line;
+    while (std::getline(in, line)) {
+      if (line.empty()) continue;
+      std::istringstream row(line);
+      double c = 0, w = 0;
+      if (!(row >> c >> w) || c < 0 || w < 0)
+        throw std::invalid_argument("--step-times: '" + path + "' line " + std::to_string(t.cpu.size() + 1) + " '" + line +
+                                    "' is not \"CPU_SECONDS WALL_SECONDS\"");
+      t.add(c, w);
+    }
+    return t;
+  }
+};
+
+// A figure in ms, or null when there is none (negative).
+std::string ms_or_null(double ms) {
+  if (ms < 0) return "null";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4f", ms);
+  return buf;
+}
+
 void print(const std::string& engine, const std::string& description, const Scene& s, int frames, double cpu_ms, double wall_ms,
-           const PeerMetrics& m) {
+           double busy_cpu_ms, double busy_wall_ms, const PeerMetrics& m) {
   std::printf("{\"engine\": \"%s\", \"description\": \"%s\", \"scene\": \"%s\", \"bodies\": %zu, \"frames\": %d, "
-              "\"ms_per_step\": %.4f, \"wall_ms_per_step\": %.4f, \"all_asleep_frame\": %d, \"asleep_at_end\": %d, "
+              "\"ms_per_step\": %.4f, \"wall_ms_per_step\": %.4f, \"busy_frames\": [%d, %d], \"busy_ms_per_step\": %s, "
+              "\"busy_wall_ms_per_step\": %s, \"all_asleep_frame\": %d, \"asleep_at_end\": %d, "
               "\"columns\": %d, \"standing\": %d, \"upright\": %d, \"worst_ground_mm\": %.2f, \"worst_ground_at\": [%d, %d], "
               "\"worst_pair_mm\": %.2f, \"worst_pair_at\": [%d, %d, %d], \"end_ground_mm\": %.2f, \"end_pair_mm\": %.2f}\n",
-              engine.c_str(), description.c_str(), s.name.c_str(), s.bodies.size(), frames, cpu_ms, wall_ms, m.all_asleep_frame,
+              engine.c_str(), description.c_str(), s.name.c_str(), s.bodies.size(), frames, cpu_ms, wall_ms, kBusyFirst, kBusyLast,
+              ms_or_null(busy_cpu_ms).c_str(), ms_or_null(busy_wall_ms).c_str(), m.all_asleep_frame,
               m.asleep_at_end, m.columns, m.standing, m.upright, 1e3 * m.worst_ground_m, m.worst_ground_frame, m.worst_ground_body,
               1e3 * m.worst_pair_m, m.worst_pair_frame, m.worst_pair_a, m.worst_pair_b, 1e3 * m.end_ground_m, 1e3 * m.end_pair_m);
 }
@@ -75,22 +147,22 @@ std::unique_ptr<EngineRun> make(const std::string& engine, const Scene& s) {
   return make_engine(engine, s);
 }
 
-int run(const Scene& s, const std::string& engine) {
+int run(const Scene& s, const std::string& engine, const std::string& times_out) {
   std::unique_ptr<EngineRun> e = make(engine, s);
   MetricsRecorder rec(s);
   std::vector<BodySnapshot> b(static_cast<std::size_t>(e->body_count()));
-  double wall = 0, cpu = 0;
+  StepTimes t;
   for (int f = 0; f < s.frames; ++f) {
     const auto t0 = std::chrono::steady_clock::now();
     const double c0 = cpu_seconds();
     e->step();
-    cpu += cpu_seconds() - c0;
-    wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double c = cpu_seconds() - c0;
+    t.add(c, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     for (int i = 0; i < e->body_count(); ++i) b[static_cast<std::size_t>(i)] = e->body(i);
     rec.frame(e->frame(), b);
   }
-  const double per = s.frames ? 1e3 / s.frames : 0.0;
-  print(engine, e->description(), s, s.frames, cpu * per, wall * per, rec.finish());
+  if (!times_out.empty()) t.write(times_out);
+  print(engine, e->description(), s, s.frames, t.cpu_ms(), t.wall_ms(), t.busy_cpu_ms(), t.busy_wall_ms(), rec.finish());
   return 0;
 }
 
@@ -111,7 +183,8 @@ int columns(const std::string& engine, int count, bool all) {
 }
 #endif
 
-int measure(const Scene& s, const std::string& path, const std::string& engine, double cpu_ms, double wall_ms) {
+int measure(const Scene& s, const std::string& path, const std::string& engine, const std::string& times_path, double cpu_ms,
+            double wall_ms) {
   std::ifstream in(path);
   if (!in) throw std::invalid_argument("TRAJECTORY: cannot read '" + path + "'");
   std::string line;
@@ -152,7 +225,18 @@ int measure(const Scene& s, const std::string& path, const std::string& engine, 
     ++seen;
   }
   flush();
-  print(engine, "trajectory " + path, s, frames, cpu_ms, wall_ms, rec.finish());
+  double busy_cpu_ms = -1, busy_wall_ms = -1;
+  if (!times_path.empty()) {
+    const StepTimes t = StepTimes::read(times_path);
+    if (static_cast<int>(t.cpu.size()) != frames)
+      throw std::invalid_argument("--step-times: '" + times_path + "' has " + std::to_string(t.cpu.size()) + " frames, the trajectory " +
+                                  std::to_string(frames));
+    cpu_ms = t.cpu_ms();
+    wall_ms = t.wall_ms();
+    busy_cpu_ms = t.busy_cpu_ms();
+    busy_wall_ms = t.busy_wall_ms();
+  }
+  print(engine, "trajectory " + path, s, frames, cpu_ms, wall_ms, busy_cpu_ms, busy_wall_ms, rec.finish());
   return 0;
 }
 
@@ -176,10 +260,11 @@ int main_(int argc, char** argv) {
   if (a.size() >= 2 && a[0] == "run") {
     Scene s = resolve(a[1]);
     s.frames = static_cast<int>(number("--frames", option("--frames", std::to_string(s.frames)), 0, 1e7, "600"));
-    return run(s, option("--engine", "bullet"));
+    return run(s, option("--engine", "bullet"), option("--step-times", ""));
   }
   if (a.size() >= 3 && a[0] == "measure")
-    return measure(resolve(a[1]), a[2], option("--engine", "trajectory"), number("--ms-per-step", option("--ms-per-step", "0"), 0, 1e9, "1.5"),
+    return measure(resolve(a[1]), a[2], option("--engine", "trajectory"), option("--step-times", ""),
+                   number("--ms-per-step", option("--ms-per-step", "0"), 0, 1e9, "1.5"),
                    number("--wall-ms-per-step", option("--wall-ms-per-step", "0"), 0, 1e9, "1.5"));
 #if LOCKSTEP_HAVE_BULLET
   if (!a.empty() && a[0] == "columns") {
@@ -189,8 +274,9 @@ int main_(int argc, char** argv) {
   }
 #endif
   std::fprintf(stderr,
-               "usage: peer_bench run SCENE --engine bullet|fixed|float|double|mp|gpu [--frames N]\n"
-               "       peer_bench measure SCENE TRAJECTORY.csv --engine NAME [--ms-per-step CPU] [--wall-ms-per-step WALL]\n"
+               "usage: peer_bench run SCENE --engine bullet|fixed|float|double|mp|gpu [--frames N] [--step-times OUT]\n"
+               "       peer_bench measure SCENE TRAJECTORY.csv --engine NAME [--step-times FILE]\n"
+               "                          [--ms-per-step CPU] [--wall-ms-per-step WALL]\n"
                "       peer_bench columns --engine E [--count N] [--all]   (built with Bullet)\n");
   return 2;
 }

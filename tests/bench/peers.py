@@ -4,9 +4,15 @@ read by every engine) on Bullet and lockstep's engines (`peer_bench run`, in
 process: lockstep's through make_engine, the code behind `lockstep run`) and
 on Jolt (PyPI `culverin`, under Python 3.12, pinned to one core; its trajectory
 measured by `peer_bench measure`), each measured by the same code: ms per
-step over all frames (stepping only, one thread, CPU time of the process, so
-that other work on a shared machine does not count; the wall clock is in the
-JSON lines), the frame from which every body stayed asleep, columns standing
+step over all frames and "busy", ms per step over frames 31-120 (1-based: the
+90 steps while the cubes land and collide, before anything sleeps), both
+stepping only, one thread, CPU time of the process, so that other work on a
+shared machine does not count (the wall clock is in the JSON lines). Every
+engine's per-frame step times reach the same summary in peer_bench:
+lockstep's engines and Bullet are timed frame by frame inside `peer_bench
+run`; the Jolt worker times each `world.step` the same way (process CPU time)
+and hands the per-frame times to `peer_bench measure --step-times`. Then the
+frame from which every body stayed asleep, columns standing
 at the end (every cube within 2 cm of its stacked height and within half its
 size of the column's axis) and upright (within a quarter of its size), and
 the worst penetration into the ground and between two boxes (mm), over all
@@ -21,7 +27,8 @@ seeded), 600 frames each at 60 Hz.
 
 Usage: python3 tests/bench/peers.py [--build build] [--engines LIST] [--scenes LIST] [--frames N]
 Writes its scene files and trajectories under BUILD/peers and prints a
-Markdown table (README "Speed")."""
+Markdown table (README "Speed"): ms/step over all frames, busy ms/step
+(frames 31-120), all asleep at frame, columns, penetrations."""
 import argparse, json, math, os, random, subprocess, sys, time
 
 JOLT_PYTHON = os.path.expanduser("~/.pyenv/versions/3.12.1/bin/python")
@@ -55,9 +62,11 @@ def boxfall1000(seed=20261125):
             "ground": {"present": True, "height": 0.0, "material": mat}, "bodies": bodies}
 
 
-def jolt_worker(scene_path, out_path, frames):
+def jolt_worker(scene_path, out_path, times_path, frames):
     """Runs under Python 3.12 with culverin: steps Jolt (one thread) and writes
-    the trajectory in lockstep run's CSV columns; prints ms/step."""
+    the trajectory in lockstep run's CSV columns and each frame's step time
+    (process CPU seconds and wall seconds, one line per frame: peer_bench's
+    --step-times format); prints ms/step over all frames."""
     import culverin
     print(culverin.__version__, file=sys.stderr)
     s = json.load(open(scene_path))
@@ -89,13 +98,15 @@ def jolt_worker(scene_path, out_path, frames):
                                          mass=b.get("mass", 1.0), friction=m.get("friction", 0.5),
                                          restitution=m.get("restitution", 0.2)))
     wall = cpu = 0.0
-    with open(out_path, "w") as out:
+    with open(out_path, "w") as out, open(times_path, "w") as times:
         out.write("frame,body,px,py,pz,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz,asleep\n")
         for f in range(1, frames + 1):
             t0, c0 = time.perf_counter(), time.process_time()
             world.step(dt)
-            cpu += time.process_time() - c0
-            wall += time.perf_counter() - t0
+            c, w = time.process_time() - c0, time.perf_counter() - t0
+            cpu += c
+            wall += w
+            times.write(f"{c:.9f} {w:.9f}\n")
             P, Q = memoryview(world.positions), memoryview(world.rotations)
             V, W = memoryview(world.velocities), memoryview(world.angular_velocities)
             rows = []
@@ -114,9 +125,11 @@ def jolt_available():
     return subprocess.run([JOLT_PYTHON, "-c", "import culverin"], capture_output=True).returncode == 0
 
 
-def measure(peer_bench, scene, traj, engine, cpu_ms, wall_ms):
-    r = subprocess.run([peer_bench, "measure", scene, traj, "--engine", engine, "--ms-per-step", str(cpu_ms),
-                        "--wall-ms-per-step", str(wall_ms)], capture_output=True, text=True)
+def measure(peer_bench, scene, traj, times, engine):
+    """peer_bench's metrics of a trajectory, its ms/step and busy ms/step from
+    the per-frame step times (the same summary as `peer_bench run`'s)."""
+    r = subprocess.run([peer_bench, "measure", scene, traj, "--engine", engine, "--step-times", times],
+                       capture_output=True, text=True)
     if r.returncode != 0:
         raise RuntimeError(f"peer_bench measure {engine}: {r.stderr.strip()}")
     return json.loads(r.stdout)
@@ -126,6 +139,7 @@ def run_one(a, engine, scene_path, work):
     """The result dict for one engine on one scene, or a string saying why it was skipped."""
     peer_bench = os.path.join(a.build, "tests", "bench", "peer_bench")
     traj = os.path.join(work, f"{engine}.csv")
+    times = os.path.join(work, f"{engine}.times")
     try:
         if engine != "jolt":
             r = subprocess.run([peer_bench, "run", scene_path, "--engine", engine, "--frames", str(a.frames)],
@@ -136,22 +150,22 @@ def run_one(a, engine, scene_path, work):
         else:
             if not jolt_available():
                 return "skipped: culverin not found"
-            r = subprocess.run([JOLT_PYTHON, os.path.abspath(__file__), "--jolt-worker", scene_path, traj, str(a.frames)],
-                               capture_output=True, text=True)
+            r = subprocess.run([JOLT_PYTHON, os.path.abspath(__file__), "--jolt-worker", scene_path, traj, times,
+                                str(a.frames)], capture_output=True, text=True)
             if r.returncode != 0:
                 return "skipped: jolt failed: " + r.stderr.strip()[-300:]
-            cpu_ms, wall_ms = (float(x) for x in r.stdout.split()[:2])
-            res = measure(peer_bench, scene_path, traj, "jolt", cpu_ms, wall_ms)
+            res = measure(peer_bench, scene_path, traj, times, "jolt")
             res["description"] = "Jolt (culverin " + r.stderr.strip() + ", one core)"
             return res
     finally:
-        if os.path.exists(traj):
-            os.remove(traj)
+        for f in (traj, times):
+            if os.path.exists(f):
+                os.remove(f)
 
 
 def main():
     if len(sys.argv) > 1 and sys.argv[1] == "--jolt-worker":
-        jolt_worker(sys.argv[2], sys.argv[3], int(sys.argv[4]))
+        jolt_worker(sys.argv[2], sys.argv[3], sys.argv[4], int(sys.argv[5]))
         return
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--build", default="build")
@@ -162,7 +176,8 @@ def main():
     work = os.path.join(a.build, "peers")
     os.makedirs(work, exist_ok=True)
     lockstep = os.path.join(a.build, "compare", "lockstep")
-    print(f"peers.py: {a.frames} frames, engines {a.engines}; ms/step is CPU time per step", flush=True)
+    print(f"peers.py: {a.frames} frames, engines {a.engines}; ms/step is CPU time per step, busy over frames 31-120",
+          flush=True)
     rows = []
     for scene in a.scenes.split(","):
         path = os.path.join(work, f"{scene}.json")
@@ -177,17 +192,20 @@ def main():
             took = time.time() - t0
             if isinstance(r, str):
                 print(f"{scene} {engine}: {r}", flush=True)
-                rows.append(f"| {scene} | {engine} | {r if len(r) <= 90 else r[:87] + '...'} | | | | |")
+                rows.append(f"| {scene} | {engine} | {r if len(r) <= 90 else r[:87] + '...'} | | | | | |")
                 continue
             asleep = str(r["all_asleep_frame"]) if r["all_asleep_frame"] >= 0 else f"never ({r['asleep_at_end']} asleep)"
             print(f"{scene} {engine}: {json.dumps(r)} ({took:.0f} s)", flush=True)
-            rows.append(f"| {scene} | {engine} | {r['ms_per_step']:.2f} | {asleep} | {r['standing']} / {r['upright']} of {r['columns']} | "
+            busy = r.get("busy_ms_per_step")
+            busy = "-" if busy is None else f"{busy:.2f}"
+            rows.append(f"| {scene} | {engine} | {r['ms_per_step']:.2f} | {busy} | {asleep} | {r['standing']} / {r['upright']} of {r['columns']} | "
                         f"{r['worst_ground_mm']:.0f} / {r['worst_pair_mm']:.0f} | {r['end_ground_mm']:.1f} / {r['end_pair_mm']:.1f} |")
     print()
-    print("| scene | engine | ms/step | all asleep at frame | columns standing / upright | "
+    print("| scene | engine | ms/step | busy ms/step (frames 31-120) | all asleep at frame | columns standing / upright | "
           "worst penetration, ground / box-box (mm) | at the end (mm) |")
-    print("|---|---|---:|---:|---:|---:|---:|")
+    print("|---|---|---:|---:|---:|---:|---:|---:|")
     print("\n".join(rows))
 
 
-main()
+if __name__ == "__main__":
+    main()
