@@ -35,6 +35,7 @@ struct RunOptions {
   bool engine_given = false;
   int snapshot_every = 0;
   int frames = -1;
+  int threads = 1;
   long long every = 1;
   bool raw = false, quiet = false, no_progress = false, contacts = false;
 };
@@ -127,6 +128,7 @@ int run_command(RunOptions o) {
   const std::string out_path = o.out.empty() ? scene.name + "-" + o.engine + "." + o.format : o.out;
 
   if (!engine) engine = make_engine(o.engine, scene);
+  engine->set_threads(o.threads);
   if (!o.save_state.empty() || !o.record.empty()) (void)engine->save_state();  // an engine without snapshots is refused before the run
   std::unique_ptr<compare::RunRecorder> recorder;
   if (!o.record.empty() || !o.inputs.empty()) {
@@ -240,6 +242,10 @@ std::function<int()> define(CLI::App& app) {
                  "FILE" + std::string(kRunRecordSuffix) + " (what `lockstep view` reads) beside it");
   app.add_option("--format", o->format, "trajectory format")->check(one_of({"csv", "jsonl"}))->capture_default_str();
   app.add_option("--every", o->every, "write every K-th frame (and the last)")->check(integer_in(1, 1'000'000))
+      ->capture_default_str();
+  app.add_option("--threads", o->threads,
+                 "threads to step on (fixed, float, double, mp; the same bits for every count, docs/SPEC.md 7.7 \"Threads\")")
+      ->check(integer_in(1, 256))
       ->capture_default_str();
   app.add_flag("--raw", o->raw, "raw Q16.16 integers instead of decimals (fixed engine only)");
   app.add_flag("--contacts", o->contacts, "also record each written frame's contacts in the run record (for view)");

@@ -9,6 +9,7 @@
 #include "kernel_support.hpp"
 #include "lockstep/gpu/elements.hpp"
 #include "lockstep/gpu/soa.hpp"
+#include "lockstep/physics/solve_order.hpp"
 
 namespace lockstep::gpu {
 
@@ -18,39 +19,15 @@ namespace lockstep::gpu {
 // (0, 1, ...).
 inline constexpr int kNoEdge = -2, kUncoloured = -1;
 
-// The order of the edges: lowest first, by the band of their height (the
-// bodies' mean y in bands of H / kBandsPerExtent, H the awake grid's largest
-// AABB half extent: a stack's contacts are kBandsPerExtent bands or more
-// apart), then by a hash of the two body indices, then by the indices, so
-// that every edge has its own place. Solving the colours lowest first
-// carries a stack's support upwards in one iteration, as World<T>'s order
-// does for a stack built bottom-up; the hash spreads the edges of one band
-// over few colours. Bands of H (a whole layer of tilted cubes) put the
-// contacts of two layers of a heap in hash order, the upper often first: the
-// bowl then slept late (median sleep frame above 232 in 18 of 100 nudged
+// The order of the edges (eqs 125-126, lockstep/physics/solve_order.hpp:
+// EdgeKey, edge_key, kBandsPerExtent, shared with World<T>): lowest first, by
+// the band of their height, then a hash of the two body indices, then the
+// indices. Solving the colours lowest first carries a stack's support
+// upwards in one iteration. Bands of H (a whole layer of tilted cubes) put
+// the contacts of two layers of a heap in hash order, the upper often first:
+// the bowl then slept late (median sleep frame above 232 in 18 of 100 nudged
 // starts, World<float> 0); bands of H / 4: 2 of 100, for 8 % more colours on
 // pile1000 (docs/GPU.md).
-// Unsigned arithmetic only (wraps by definition); the band is clamped.
-inline constexpr int kBandsPerExtent = 4;
-struct EdgeKey {
-  unsigned long long key;  // (band + 2^31) << 32 | hash
-  int lo, hi;              // the bodies, lo < hi
-  LS_HD bool before(const EdgeKey& o) const {
-    if (key != o.key) return key < o.key;
-    return lo != o.lo ? lo < o.lo : hi < o.hi;
-  }
-};
-LS_HD inline unsigned long long edge_key(int lo, int hi, float y_lo, float y_hi, float inv_band) {
-  unsigned x = static_cast<unsigned>(lo) * 0x9E3779B1u ^ static_cast<unsigned>(hi) * 0x85EBCA77u;
-  x ^= x >> 15;
-  x *= 0x2C1B3C6Du;
-  x ^= x >> 12;
-  const float limit = Num<float>::from_double(1073741824.0);  // 2^30 bands
-  float y = (y_lo + y_hi) * Num<float>::from_double(0.5) * inv_band;
-  y = y == y ? Num<float>::max(-limit, Num<float>::min(y, limit)) : 0.0f;  // NaN: caught at the frame's end
-  const unsigned biased = static_cast<unsigned>(Num<float>::floor_int(y)) + 0x80000000u;
-  return (static_cast<unsigned long long>(biased) << 32) | x;
-}
 
 // The colour words are read while other threads of the round write them:
 // volatile accesses on the device (strong, so no data race), plain ones in

@@ -37,6 +37,12 @@ void World<T>::broad_phase() {
     const Body<T>& b = bodies_[i];
     grow_[i] = oriented && b.awake() ? half_tol + speculative_reach(b.v, b.w, b.half, P_.dt) : half_tol;  // eq 107
   }
+  // eq 125: the solver's height bands, from the largest AABB half extent of
+  // the bodies awake now (after eq 108's wake; not those eq 81 wakes later).
+  T largest{};
+  for (const Body<T>& b : bodies_)
+    if (b.awake()) largest = Num<T>::max(largest, Num<T>::max(b.aabb_half.x, Num<T>::max(b.aabb_half.y, b.aabb_half.z)));
+  band_inv_ = band_inverse(largest);
   if (!scene_.effects.contacts || n < 2) return;
   // A pair needs an awake side (maybe_pair): with every body asleep or static
   // there is none, and the grid is not built (a pile at rest costs nothing here).

@@ -43,9 +43,18 @@ void World<T>::solve_contacts() {
     else if (idx == -1) { e = ground_e_; mu = ground_mu_; }
     else { e = sdf_e_[static_cast<std::size_t>(-2 - idx)]; mu = sdf_mu_[static_cast<std::size_t>(-2 - idx)]; }
   };
+  // A parallel region's counts: one per part, added up after (integers, in
+  // any order).
+  std::vector<SolveCounts> part_counts(static_cast<std::size_t>(threads_));
+  auto region = [&](std::size_t count, std::size_t grain, auto&& item) {
+    for (SolveCounts& c : part_counts) c = SolveCounts{};
+    parallel_for(count, grain, [&](std::size_t k, int part) { item(k, part_counts[static_cast<std::size_t>(part)]); });
+    for (const SolveCounts& c : part_counts) tally(c);
+  };
   // Prepare: lever arms, then approach speed, restitution, friction and
-  // effective mass (eqs 48-50, 58, 76, 86).
-  for (Contact<T>& c : contacts_) {
+  // effective mass (eqs 48-50, 58, 76, 86); each contact alone.
+  region(contacts_.size(), 64, [&](std::size_t k, SolveCounts& counts) {
+    Contact<T>& c = contacts_[k];
     const BodyView<T> A = solver::view_of(bodies_, c.a);
     const BodyView<T> B = solver::view_of(bodies_, c.b);
     c.r1 = c.point - bodies_[static_cast<std::size_t>(c.a)].p;
@@ -53,12 +62,10 @@ void World<T>::solve_contacts() {
     T e1, mu1, e2, mu2;
     material(c.a, e1, mu1);
     material(c.b, e2, mu2);
-    SolveCounts counts;
     c.state = prepare_contact(A, c.r1, B, c.r2, c.n, e1, mu1, e2, mu2, fx.restitution, fx.friction, P_, counts);
     c.row = normal_row(A, c.r1, B, c.r2, c.n);  // eq 114
-    tally(counts);
     check_faults(c.a, "contact preparation");
-  }
+  });
   // eq 96: warm start from last frame's normal impulse of the same contact
   // (same bodies, same feature), applied in contact order.
   if (!warm_.empty()) {
@@ -79,8 +86,9 @@ void World<T>::solve_contacts() {
   // object (its ground corners, its samples of one SDF) and a body pair's
   // box-box points (eqs 100-106) form a manifold that is solved Jacobi-style
   // (eq 99, solve_manifold); with the source's AABB pair model a body pair is
-  // one contact (solve_contact, effective masses unscaled); manifolds and
-  // body pairs follow each other Gauss-Seidel-style in contact order.
+  // one contact (solve_contact, effective masses unscaled). The visits follow
+  // each other Gauss-Seidel-style in the order of eqs 125-127
+  // (physics/solve_order.hpp), parallel by construction.
   const T one = Num<T>::from_int(1);
   const bool oriented = scene_.pair_contacts == PairModel::kOrientedBox;
   // The visits: a manifold (consecutive contacts of one body with one other
@@ -109,88 +117,174 @@ void World<T>::solve_contacts() {
     visit_split_[vi] = manifold_split(o, static_cast<int>(e - s));
     check_faults(contacts_[s].a, "contact preparation");
   }
+  // eqs 125-127: each awake body's own visits (immovable other side: the
+  // environment, then static and sleeping bodies by index), and the edges
+  // (two awake bodies) coloured in key order.
+  auto awake = [&](int idx) { return idx >= 0 && bodies_[static_cast<std::size_t>(idx)].awake(); };
+  own_visits_.clear();
+  edges_.clear();
+  for (std::size_t vi = 0; vi < visits.size(); ++vi) {
+    const Contact<T>& c = contacts_[visits[vi].first];
+    if (!(c.state.k_n > T{})) continue;  // both sides immovable: no visit
+    if (awake(c.a) && awake(c.b)) {
+      const Body<T>& A = bodies_[static_cast<std::size_t>(c.a)];
+      const Body<T>& B = bodies_[static_cast<std::size_t>(c.b)];
+      edges_.push_back({EdgeKey{edge_key(c.a, c.b, A.p.y, B.p.y, band_inv_), c.a, c.b}, static_cast<int>(vi)});  // eqs 125-126
+      continue;
+    }
+    const int self = awake(c.a) ? c.a : c.b, other = self == c.a ? c.b : c.a;
+    // environment (other < 0) first in list order, then bodies by index
+    const std::uint64_t rank = other < 0 ? 0u : static_cast<std::uint64_t>(other) + 1u;
+    own_visits_.emplace_back((static_cast<std::uint64_t>(self) << 32) | rank, static_cast<int>(vi));
+  }
+  std::sort(own_visits_.begin(), own_visits_.end());
+  visit_bodies_.clear();
+  body_visit_begin_.clear();
+  body_visits_.clear();
+  for (std::size_t k = 0; k < own_visits_.size(); ++k) {
+    const int body = static_cast<int>(own_visits_[k].first >> 32);
+    if (visit_bodies_.empty() || visit_bodies_.back() != body) {
+      visit_bodies_.push_back(body);
+      body_visit_begin_.push_back(static_cast<int>(k));
+    }
+    body_visits_.push_back(own_visits_[k].second);
+  }
+  body_visit_begin_.push_back(static_cast<int>(body_visits_.size()));
+  std::sort(edges_.begin(), edges_.end(), [](const SolveEdge& x, const SolveEdge& y) { return x.key.before(y.key); });
+  colour_top_.assign(bodies_.size(), -1);
+  int colours = 0;
+  std::vector<int>& colour_of = colour_visits_;  // first the colour of each edge, then the edges by colour
+  colour_of.resize(edges_.size());
+  for (std::size_t k = 0; k < edges_.size(); ++k) {
+    int& top_lo = colour_top_[static_cast<std::size_t>(edges_[k].key.lo)];
+    int& top_hi = colour_top_[static_cast<std::size_t>(edges_[k].key.hi)];
+    const int colour = edge_colour(top_lo, top_hi);  // eq 127
+    top_lo = top_hi = colour;
+    colour_of[k] = colour;
+    colours = std::max(colours, colour + 1);
+  }
+  colour_begin_.assign(static_cast<std::size_t>(colours) + 1, 0);
+  for (int c : colour_of) ++colour_begin_[static_cast<std::size_t>(c) + 1];
+  for (int c = 0; c < colours; ++c) colour_begin_[static_cast<std::size_t>(c) + 1] += colour_begin_[static_cast<std::size_t>(c)];
+  {
+    std::vector<int> at(colour_begin_.begin(), colour_begin_.end() - 1);
+    std::vector<int> by_colour(edges_.size());
+    for (std::size_t k = 0; k < edges_.size(); ++k)
+      by_colour[static_cast<std::size_t>(at[static_cast<std::size_t>(colour_of[k])]++)] = edges_[k].visit;
+    colour_visits_.swap(by_colour);
+  }
   // A visit is a function of its two sides' velocities and its contacts'
   // states alone; one that applied no impulse changed neither, so while
   // neither side's velocity has changed since, visiting it again would apply
   // none again: it is skipped (the same bits), counted as the visit it
-  // repeats. velocity_version_[i] counts the visits that changed body i.
+  // repeats. velocity_version_[i] counts the visits that changed awake body
+  // i (an immovable side's velocity never changes: version 0).
   velocity_version_.assign(bodies_.size(), 0u);
+  auto version = [&](int idx) { return awake(idx) ? velocity_version_[static_cast<std::size_t>(idx)] : 0u; };
   const bool skip_converged = oriented && P_.converged_speed > T{};  // eq 113
   idle_visits_.assign(visits.size(), IdleVisit{});
-  // 7.2 step 5 (oriented-box model): even passes visit the list in order,
-  // odd passes in reverse (symmetric Gauss-Seidel), so an impact on top of a
-  // stack reaches the ground within one pass and the ground's answer climbs
-  // back in the next. The source's AABB model: every pass in order.
+  // One visit of pass `it`; its counts go to `total` (one per part of a
+  // parallel region, summed after: integers, in any order).
+  auto visit_at = [&](std::size_t at, int it, SolveCounts& total) {
+    const std::pair<std::size_t, std::size_t>& visit = visits[at];
+    const std::size_t s = visit.first, e = visit.second;  // (not a structured binding: lambdas capture s)
+    const bool manifold = contacts_[s].b < 0 || oriented;
+    const int ia = contacts_[s].a, ib = contacts_[s].b;
+    const unsigned version_a = version(ia), version_b = version(ib);
+    IdleVisit& idle = idle_visits_[at];
+    // eq 113 (oriented-box model, converged_speed > 0): from pass
+    // converged_pass on, a visit that last changed its sides' velocities
+    // by less than converged_speed with no step of eq 99 shortened below
+    // 1/2, and whose sides have moved by less than that since, is
+    // converged and skipped (it would apply almost nothing again). Checked
+    // before the idle skip, as the GPU engine (which has none) does.
+    if (skip_converged && it >= P_.converged_pass && idle.small) {
+      const BodyView<T> A = solver::view_of(bodies_, ia), B = solver::view_of(bodies_, ib);
+      if (visit_converged(idle.va, idle.wa, A.v, A.w, P_.converged_speed) &&
+          visit_converged(idle.vb, idle.wb, B.v, B.w, P_.converged_speed))
+        return;
+    }
+    if (idle.idle && idle.version_a == version_a && idle.version_b == version_b) {
+      total.solver_contacts += idle.solver_contacts;  // the visit it repeats: no impulse
+      return;
+    }
+    BodyView<T> A = solver::view_of(bodies_, ia);
+    BodyView<T> B = solver::view_of(bodies_, ib);
+    const Vec3<T> va0 = A.v, wa0 = A.w, vb0 = B.v, wb0 = B.w;
+    SolveCounts counts;
+    if (manifold) {
+      const auto points = static_cast<int>(e - s);  // <= kManifoldPoints by construction (narrow_phase)
+      auto point = [&](int k, Vec3<T>& r1, Vec3<T>& r2, Vec3<T>& n, T& penetration) {
+        if (k >= points) return false;
+        const Contact<T>& c = contacts_[s + static_cast<std::size_t>(k)];
+        r1 = c.r1;
+        r2 = c.r2;
+        n = c.n;
+        penetration = c.penetration;
+        return true;
+      };
+      auto load = [&](int k) { return contacts_[s + static_cast<std::size_t>(k)].state; };
+      auto store = [&](int k, const ContactState<T>& st) { contacts_[s + static_cast<std::size_t>(k)].state = st; };
+      auto row = [&](int k) -> const NormalRow<T>& { return contacts_[s + static_cast<std::size_t>(k)].row; };
+      solve_manifold_rows<solver::kManifoldPoints>(A, B, point, row, load, store, fx.friction, fx.gravity, one, P_,
+                                                   counts, &visit_split_[at]);
+    } else {
+      Contact<T>& c = contacts_[s];
+      solve_contact(A, c.r1, B, c.r2, c.n, c.penetration, c.state, fx.friction, fx.gravity, one, P_, counts);
+    }
+    total.solver_contacts += counts.solver_contacts;
+    total.normal_impulses += counts.normal_impulses;
+    total.friction_steps += counts.friction_steps;
+    if (A.inv_mass > T{}) { Body<T>& b = bodies_[static_cast<std::size_t>(ia)]; b.v = A.v; b.w = A.w; }
+    if (B.inv_mass > T{}) { Body<T>& b = bodies_[static_cast<std::size_t>(ib)]; b.v = B.v; b.w = B.w; }
+    check_faults(ia, ib >= 0 ? "contact impulse (with another body)" : "contact impulse");
+    idle.idle = counts.normal_impulses == 0 && counts.friction_steps == 0;
+    if (!idle.idle) {
+      if (awake(ia)) ++velocity_version_[static_cast<std::size_t>(ia)];
+      if (awake(ib)) ++velocity_version_[static_cast<std::size_t>(ib)];
+    }
+    idle.version_a = version(ia);
+    idle.version_b = version(ib);
+    idle.solver_contacts = counts.solver_contacts;
+    if (!skip_converged) return;  // eq 113 off (the default): no record is kept
+    idle.small = counts.shortened_steps == 0 &&  // a shortened step (eq 99) made partial progress
+                 visit_converged(va0, wa0, A.v, A.w, P_.converged_speed) &&
+                 visit_converged(vb0, wb0, B.v, B.w, P_.converged_speed);
+    idle.va = A.v;
+    idle.wa = A.w;
+    idle.vb = B.v;
+    idle.wb = B.w;
+  };
+  // Step 1 of a pass: each awake body's own visits, in order (backwards on
+  // odd passes of the oriented-box model); bodies are independent.
+  auto own_visits = [&](int it, bool reverse) {
+    region(visit_bodies_.size(), 16, [&](std::size_t b, SolveCounts& total) {
+      const int lo = body_visit_begin_[b], hi = body_visit_begin_[b + 1];
+      if (!reverse)
+        for (int k = lo; k < hi; ++k) visit_at(static_cast<std::size_t>(body_visits_[static_cast<std::size_t>(k)]), it, total);
+      else
+        for (int k = hi; k-- > lo;) visit_at(static_cast<std::size_t>(body_visits_[static_cast<std::size_t>(k)]), it, total);
+    });
+  };
+  // Step 2: colour c's edges, no two sharing a body.
+  auto colour = [&](int it, int c) {
+    const int lo = colour_begin_[static_cast<std::size_t>(c)], hi = colour_begin_[static_cast<std::size_t>(c) + 1];
+    region(static_cast<std::size_t>(hi - lo), 16, [&](std::size_t k, SolveCounts& total) {
+      visit_at(static_cast<std::size_t>(colour_visits_[static_cast<std::size_t>(lo) + k]), it, total);
+    });
+  };
+  // 7.2 step 5 (oriented-box model): even passes go forwards, odd passes
+  // backwards (symmetric Gauss-Seidel), so an impact on top of a stack
+  // reaches the ground within one pass and the ground's answer climbs back
+  // in the next. The source's AABB model: every pass forwards.
   for (int it = 0; it < P_.solver_iterations; ++it) {
-    for (std::size_t vi = 0; vi < visits.size(); ++vi) {
-      const std::size_t at = (oriented && (it & 1)) ? visits.size() - 1 - vi : vi;
-      const std::pair<std::size_t, std::size_t>& visit = visits[at];
-      const std::size_t s = visit.first, e = visit.second;  // (not a structured binding: lambdas capture s)
-      const bool manifold = contacts_[s].b < 0 || oriented;
-      const int ia = contacts_[s].a, ib = contacts_[s].b;
-      const unsigned version_a = velocity_version_[static_cast<std::size_t>(ia)];
-      const unsigned version_b = ib >= 0 ? velocity_version_[static_cast<std::size_t>(ib)] : 0u;
-      IdleVisit& idle = idle_visits_[at];
-      // eq 113 (oriented-box model, converged_speed > 0): from pass
-      // converged_pass on, a visit that last changed its sides' velocities
-      // by less than converged_speed with no step of eq 99 shortened below
-      // 1/2, and whose sides have moved by less than that since, is
-      // converged and skipped (it would apply almost nothing again). Checked
-      // before the idle skip, as the GPU engine (which has none) does.
-      if (skip_converged && it >= P_.converged_pass && idle.small) {
-        const BodyView<T> A = solver::view_of(bodies_, ia), B = solver::view_of(bodies_, ib);
-        if (visit_converged(idle.va, idle.wa, A.v, A.w, P_.converged_speed) &&
-            visit_converged(idle.vb, idle.wb, B.v, B.w, P_.converged_speed))
-          continue;
-      }
-      if (idle.idle && idle.version_a == version_a && idle.version_b == version_b) {
-        counters_.solver_contacts += idle.solver_contacts;  // the visit it repeats: no impulse
-        continue;
-      }
-      BodyView<T> A = solver::view_of(bodies_, ia);
-      BodyView<T> B = solver::view_of(bodies_, ib);
-      const Vec3<T> va0 = A.v, wa0 = A.w, vb0 = B.v, wb0 = B.w;
-      SolveCounts counts;
-      if (manifold) {
-        const auto points = static_cast<int>(e - s);  // <= kManifoldPoints by construction (narrow_phase)
-        auto point = [&](int k, Vec3<T>& r1, Vec3<T>& r2, Vec3<T>& n, T& penetration) {
-          if (k >= points) return false;
-          const Contact<T>& c = contacts_[s + static_cast<std::size_t>(k)];
-          r1 = c.r1;
-          r2 = c.r2;
-          n = c.n;
-          penetration = c.penetration;
-          return true;
-        };
-        auto load = [&](int k) { return contacts_[s + static_cast<std::size_t>(k)].state; };
-        auto store = [&](int k, const ContactState<T>& st) { contacts_[s + static_cast<std::size_t>(k)].state = st; };
-        auto row = [&](int k) -> const NormalRow<T>& { return contacts_[s + static_cast<std::size_t>(k)].row; };
-        solve_manifold_rows<solver::kManifoldPoints>(A, B, point, row, load, store, fx.friction, fx.gravity, one, P_,
-                                                     counts, &visit_split_[at]);
-      } else {
-        Contact<T>& c = contacts_[s];
-        solve_contact(A, c.r1, B, c.r2, c.n, c.penetration, c.state, fx.friction, fx.gravity, one, P_, counts);
-      }
-      tally(counts);
-      if (A.inv_mass > T{}) { Body<T>& b = bodies_[static_cast<std::size_t>(ia)]; b.v = A.v; b.w = A.w; }
-      if (B.inv_mass > T{}) { Body<T>& b = bodies_[static_cast<std::size_t>(ib)]; b.v = B.v; b.w = B.w; }
-      check_faults(ia, ib >= 0 ? "contact impulse (with another body)" : "contact impulse");
-      idle.idle = counts.normal_impulses == 0 && counts.friction_steps == 0;
-      if (!idle.idle) {
-        ++velocity_version_[static_cast<std::size_t>(ia)];
-        if (ib >= 0) ++velocity_version_[static_cast<std::size_t>(ib)];
-      }
-      idle.version_a = velocity_version_[static_cast<std::size_t>(ia)];
-      idle.version_b = ib >= 0 ? velocity_version_[static_cast<std::size_t>(ib)] : 0u;
-      idle.solver_contacts = counts.solver_contacts;
-      if (!skip_converged) continue;  // eq 113 off (the default): no record is kept
-      idle.small = counts.shortened_steps == 0 &&  // a shortened step (eq 99) made partial progress
-                   visit_converged(va0, wa0, A.v, A.w, P_.converged_speed) &&
-                   visit_converged(vb0, wb0, B.v, B.w, P_.converged_speed);
-      idle.va = A.v;
-      idle.wa = A.w;
-      idle.vb = B.v;
-      idle.wb = B.w;
+    const bool reverse = oriented && (it & 1) != 0;
+    if (!reverse) {
+      own_visits(it, false);
+      for (int c = 0; c < colours; ++c) colour(it, c);
+    } else {
+      for (int c = colours; c-- > 0;) colour(it, c);
+      own_visits(it, true);
     }
   }
   warm_.clear();

@@ -21,20 +21,37 @@ void World<T>::narrow_phase() {
   const T tol = half_tol + half_tol;  // the two growths together
   // Body against body, pairs in ascending (i, j) order.
   const bool oriented = scene_.pair_contacts == PairModel::kOrientedBox;
-  for (const auto& [i, j] : pairs_) {
+  // eqs 100-107 (oriented-box model): each pair's manifold, the pairs in
+  // parallel on the world's threads (each a function of its two bodies
+  // alone), then their contacts appended in pair order.
+  if (oriented) {
+    pair_manifolds_.resize(pairs_.size());
+    parallel_for(pairs_.size(), 64, [&](std::size_t k, int) {
+      const auto [i, j] = pairs_[k];
+      const Body<T>& A = bodies_[static_cast<std::size_t>(i)];
+      const Body<T>& B = bodies_[static_cast<std::size_t>(j)];
+      // the grown AABBs (reach included) as the early-out, then up to 4
+      // points with one normal within contact_tolerance plus both reaches
+      const T ga = grow_[static_cast<std::size_t>(i)], gb = grow_[static_cast<std::size_t>(j)];
+      BoxManifold<T>& m = pair_manifolds_[k];
+      if (!aabb_overlap(A.p, A.aabb_half + Vec3<T>{ga, ga, ga}, B.p, B.aabb_half + Vec3<T>{gb, gb, gb}).hit) {
+        m.count = 0;
+        return;
+      }
+      const T pair_tol = (ga - half_tol) + (gb - half_tol) + P_.contact_tolerance;
+      m = box_box_manifold(A.p, A.R, A.half, B.p, B.R, B.half, pair_tol);
+      check_faults(i, "box-box contact");
+    });
+  }
+  for (std::size_t pk = 0; pk < pairs_.size(); ++pk) {
+    const auto [i, j] = pairs_[pk];
     const Body<T>& A = bodies_[static_cast<std::size_t>(i)];
     const Body<T>& B = bodies_[static_cast<std::size_t>(j)];
     ++counters_.pairs_tested;
     if (oriented) {
-      // eqs 100-107: the grown AABBs (reach included) as the early-out, then
-      // up to 4 points with one normal within contact_tolerance plus both
-      // reaches; only the deepest (first on ties) carries the pair's position
-      // correction (eq 89), as on the ground.
-      const T ga = grow_[static_cast<std::size_t>(i)], gb = grow_[static_cast<std::size_t>(j)];
-      if (!aabb_overlap(A.p, A.aabb_half + Vec3<T>{ga, ga, ga}, B.p, B.aabb_half + Vec3<T>{gb, gb, gb}).hit) continue;
-      const T pair_tol = (ga - half_tol) + (gb - half_tol) + P_.contact_tolerance;
-      const BoxManifold<T> m = box_box_manifold(A.p, A.R, A.half, B.p, B.R, B.half, pair_tol);
-      check_faults(i, "box-box contact");
+      // only the deepest point (first on ties) carries the pair's position
+      // correction (eq 89), as on the ground
+      const BoxManifold<T>& m = pair_manifolds_[pk];
       int deepest = -1;
       const auto first = pair_contacts.size();
       for (int k = 0; k < m.count; ++k) {

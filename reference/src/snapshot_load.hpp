@@ -256,7 +256,9 @@ void World<T>::restore_state(const std::uint8_t* data, std::size_t size) {
     read_moving_state(r, info.frame, true);
     return;
   }
+  const int threads = threads_;  // the world's threads are not state: kept
   *this = load_state(data, size);
+  set_threads(threads);
 }
 
 template <class T>

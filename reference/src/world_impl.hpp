@@ -2,6 +2,7 @@
 // Instantiated once per number type in world_<type>.cpp, so a build of the
 // fixed engine alone (certification, cross compilers) needs no Boost.
 #pragma once
+#include "thread_pool.hpp"
 #include "lockstep/world.hpp"
 
 #include <cmath>
@@ -143,6 +144,7 @@ World<T>& World<T>::operator=(const World& other) {
   sdf_mu_ = other.sdf_mu_;
   counters_ = other.counters_;
   frame_ = other.frame_;
+  set_threads(other.threads_);  // the same count, its own threads (made when first needed)
   ids_ = other.ids_;
   forces_ = other.forces_;
   return *this;
@@ -179,6 +181,50 @@ void World<T>::step(const StageObserver& after_stage) {
   if (scene_.effects.sleep) update_sleep();             // 9: eqs 78-80
   after(FrameStage::sleep);
   if constexpr (!Num<T>::kExact) check_finite();
+}
+
+template <class T>
+void World<T>::set_threads(int threads) {
+  if (threads < 1 || threads > 256)
+    throw std::invalid_argument("threads = " + std::to_string(threads) +
+                                ": World<T>::set_threads needs 1 to 256 threads (1: the caller's alone)");
+  if (threads != threads_) pool_.reset();
+  threads_ = threads;
+}
+
+template <class T>
+template <class Body>
+void World<T>::parallel_for(std::size_t count, std::size_t grain, const Body& body) {
+  // Contiguous ranges of at least `grain` items, at most one per thread; the
+  // work each item does never depends on the range it falls in.
+  const std::size_t parts = std::min<std::size_t>(static_cast<std::size_t>(threads_), count / std::max<std::size_t>(grain, 1));
+  if (parts <= 1) {
+    for (std::size_t k = 0; k < count; ++k) body(k, 0);
+    return;
+  }
+  if (!pool_ || pool_->size() != threads_) pool_ = std::make_shared<ThreadPool>(threads_);
+  // A part stops at its first RunError; the lowest item's is rethrown, the
+  // one a single thread would have met first.
+  std::vector<std::size_t> failed(parts, count);
+  std::vector<std::exception_ptr> errors(parts);
+  pool_->run(static_cast<int>(parts), [&](int part) {
+    const std::size_t lo = count * static_cast<std::size_t>(part) / parts;
+    const std::size_t hi = count * static_cast<std::size_t>(part + 1) / parts;
+    Num<T>::take_faults();  // this thread's: none left from an earlier region
+    for (std::size_t k = lo; k < hi; ++k) {
+      try {
+        body(k, part);
+      } catch (const RunError&) {
+        failed[static_cast<std::size_t>(part)] = k;
+        errors[static_cast<std::size_t>(part)] = std::current_exception();
+        return;
+      }
+    }
+  });
+  std::size_t first = parts;
+  for (std::size_t p = 0; p < parts; ++p)
+    if (errors[p] && (first == parts || failed[p] < failed[first])) first = p;
+  if (first < parts) std::rethrow_exception(errors[first]);
 }
 
 template <class T>

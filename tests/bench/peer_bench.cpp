@@ -1,12 +1,13 @@
 // peer_bench: one scene on one engine, measured the same way for every engine
 // (peer_metrics.hpp): ms per step over all frames and over the busy frames
-// 31-120 (stepping only, one thread; the process's CPU time, and the wall
+// 31-120 (stepping only, one thread unless --threads N (lockstep's CPU
+// engines: then read the wall clock); the process's CPU time, and the wall
 // clock), the frame from which every body stayed asleep, columns standing at
 // the end, and the worst penetration into the ground and between two boxes
 // over all frames. tests/bench/peers.py runs it for Bullet, lockstep's engines
 // and Jolt side by side (README "Speed").
 //
-//   peer_bench run SCENE --engine bullet|fixed|float|double|mp|gpu [--frames N] [--step-times OUT]
+//   peer_bench run SCENE --engine bullet|fixed|float|double|mp|gpu [--frames N] [--step-times OUT] [--threads N]
 //   peer_bench measure SCENE TRAJECTORY.csv --engine NAME [--step-times FILE]
 //                      [--ms-per-step CPU] [--wall-ms-per-step WALL]
 //   peer_bench columns --engine E [--count N] [--all]
@@ -147,8 +148,9 @@ std::unique_ptr<EngineRun> make(const std::string& engine, const Scene& s) {
   return make_engine(engine, s);
 }
 
-int run(const Scene& s, const std::string& engine, const std::string& times_out) {
+int run(const Scene& s, const std::string& engine, const std::string& times_out, int threads) {
   std::unique_ptr<EngineRun> e = make(engine, s);
+  e->set_threads(threads);  // lockstep's CPU engines (docs/SPEC.md 7.7 "Threads"); others take 1
   MetricsRecorder rec(s);
   std::vector<BodySnapshot> b(static_cast<std::size_t>(e->body_count()));
   StepTimes t;
@@ -162,7 +164,7 @@ int run(const Scene& s, const std::string& engine, const std::string& times_out)
     rec.frame(e->frame(), b);
   }
   if (!times_out.empty()) t.write(times_out);
-  print(engine, e->description(), s, s.frames, t.cpu_ms(), t.wall_ms(), t.busy_cpu_ms(), t.busy_wall_ms(), rec.finish());
+  print(threads > 1 ? engine + " x" + std::to_string(threads) : engine, e->description(), s, s.frames, t.cpu_ms(), t.wall_ms(), t.busy_cpu_ms(), t.busy_wall_ms(), rec.finish());
   return 0;
 }
 
@@ -260,7 +262,8 @@ int main_(int argc, char** argv) {
   if (a.size() >= 2 && a[0] == "run") {
     Scene s = resolve(a[1]);
     s.frames = static_cast<int>(number("--frames", option("--frames", std::to_string(s.frames)), 0, 1e7, "600"));
-    return run(s, option("--engine", "bullet"), option("--step-times", ""));
+    return run(s, option("--engine", "bullet"), option("--step-times", ""),
+               static_cast<int>(number("--threads", option("--threads", "1"), 1, 256, "2")));
   }
   if (a.size() >= 3 && a[0] == "measure")
     return measure(resolve(a[1]), a[2], option("--engine", "trajectory"), option("--step-times", ""),
@@ -274,7 +277,7 @@ int main_(int argc, char** argv) {
   }
 #endif
   std::fprintf(stderr,
-               "usage: peer_bench run SCENE --engine bullet|fixed|float|double|mp|gpu [--frames N] [--step-times OUT]\n"
+               "usage: peer_bench run SCENE --engine bullet|fixed|float|double|mp|gpu [--frames N] [--step-times OUT] [--threads N]\n"
                "       peer_bench measure SCENE TRAJECTORY.csv --engine NAME [--step-times FILE]\n"
                "                          [--ms-per-step CPU] [--wall-ms-per-step WALL]\n"
                "       peer_bench columns --engine E [--count N] [--all]   (built with Bullet)\n");

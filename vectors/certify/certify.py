@@ -47,6 +47,7 @@ SOURCES = [
     "fixed/src/q16.cpp",
     "reference/src/run_error.cpp",
     "reference/src/world_fixed.cpp",
+    "reference/src/thread_pool.cpp",
     "reference/src/snapshot_scene.cpp",
     "reference/src/builtin_scenes.cpp",
     "reference/src/sdf_generators.cpp",

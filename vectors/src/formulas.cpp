@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdio>
 #include <functional>
 
 #include "lockstep/physics/aabb.hpp"
@@ -17,6 +18,7 @@
 #include "lockstep/physics/sdf.hpp"
 #include "lockstep/physics/settle.hpp"
 #include "lockstep/physics/sleep.hpp"
+#include "lockstep/physics/solve_order.hpp"
 #include "lockstep/physics/solver.hpp"
 #include "lockstep/vectors/params_json.hpp"
 #include "lockstep/vectors/scenes.hpp"
@@ -363,6 +365,23 @@ Json f_contact_closing_speed_pair(In in, const std::string& p) {
 Json f_support_impact(In in, const std::string& p) {
   return Json{{"impact", support_impact(q16_at(in, "penetration", p), q16_at(in, "v_n", p), params_at(in, p))}};
 }
+// eqs 125-127: the solver's order (an edge's band, key and colour).
+Json f_band_inverse(In in, const std::string& p) {
+  return Json{{"inv_band", to_json(band_inverse(q16_at(in, "largest_half", p)))}};
+}
+Json f_edge_band(In in, const std::string& p) {
+  return Json{{"band", edge_band(q16_at(in, "y_lo", p), q16_at(in, "y_hi", p), q16_at(in, "inv_band", p))}};
+}
+Json f_edge_key(In in, const std::string& p) {
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx",
+                edge_key(static_cast<int>(int_at(in, "lo", p)), static_cast<int>(int_at(in, "hi", p)),
+                         static_cast<int>(int_at(in, "band", p))));
+  return Json{{"key", std::string(hex)}};
+}
+Json f_edge_colour(In in, const std::string& p) {
+  return Json{{"colour", edge_colour(static_cast<int>(int_at(in, "top_lo", p)), static_cast<int>(int_at(in, "top_hi", p)))}};
+}
 // eq 112's chain: stage 6's order, and whether a body riding on its support stays over.
 Json f_settles_before(In in, const std::string& p) {
   return Json{{"before", settles_before(q16_at(in, "ys", p), static_cast<int>(int_at(in, "s", p)), q16_at(in, "yi", p),
@@ -617,6 +636,16 @@ const std::vector<Formula>& formulas() {
       {"support_impact", {112}, "not (penetration > -slop) and v_n < -rest_speed", f_support_impact},
       {"settles_before", {112}, "ys < yi or (ys == yi and s < i): body s settles before body i (stage 6's order)",
        f_settles_before},
+      {"band_inverse", {125}, "(1 / max(largest_half * 2, 1/64)) * 8: 1 / the height band (bands of H / 4)", f_band_inverse},
+      {"edge_band", {125},
+       "m = y_lo * 0.5 + y_hi * 0.5; 0 if m is NaN; L = 16383 / inv_band if inv_band > 1 else 16383; "
+       "floor(max(-L, min(m, L)) * inv_band)",
+       f_edge_band},
+      {"edge_key", {126},
+       "x = lo * 0x9E3779B1 ^ hi * 0x85EBCA77; x ^= x >> 15; x *= 0x2C1B3C6D; x ^= x >> 12 (uint32, wrapping); "
+       "key = (uint32(band) + 2^31 mod 2^32) << 32 | x, as 16 hex digits",
+       f_edge_key},
+      {"edge_colour", {127}, "max(top_lo, top_hi) + 1 (-1: the body has no edge before this one)", f_edge_colour},
       {"over_with_support", {112}, "over and not (support_before and not support_over): a body riding on a body that tips tips",
        f_over_with_support},
       {"leans", {115}, "supported and held and not over_contacts: it rests tilted on what holds it (not righted, no alignment test for sleep)",
@@ -944,6 +973,20 @@ std::vector<Case> cases_for(const std::string& fn, Rng& rng) {
       // contacts; closing and separating speeds about rest_speed.
       in = {{"penetration", to_json(k % 3 ? -rng.q16(0, 0.003) : rng.q16(-0.0015, 0.001))},
             {"v_n", to_json(rng.q16(-0.6, 0.3))}};
+    } else if (fn == "band_inverse") {
+      // Half extents from tiny (the 1/64 m floor) to large.
+      in = {{"largest_half", to_json(k % 4 == 0 ? rng.q16(0.001, 0.01) : rng.q16(0.01, 40))}};
+    } else if (fn == "edge_band") {
+      // Heights anywhere in Q16.16's range (the clamp), bands from fine to coarse.
+      const double reach = k % 5 == 0 ? 32000 : 50;
+      in = {{"y_lo", to_json(rng.q16(-reach, reach))}, {"y_hi", to_json(rng.q16(-reach, reach))},
+            {"inv_band", to_json(band_inverse(k % 3 == 0 ? rng.q16(0.001, 0.02) : rng.q16(0.02, 40)))}};
+    } else if (fn == "edge_key") {
+      in = {{"lo", k * 37 % 1000}, {"hi", 1000 + k * 101 % 50000}, {"band", (k % 7 == 0 ? -16384 : 0) + k * 13 % 4000 - 2000}};
+    } else if (fn == "edge_colour") {
+      in = {{"top_lo", k % 6 - 1}, {"top_hi", (k / 6) % 6 - 1}};
+      add(in, "", {"Sweep"});
+      continue;
     } else if (fn == "settles_before") {
       // Two heights, often equal (the index decides), and two indices.
       const Q16 ys = rng.q16(-2, 2);

@@ -5,6 +5,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -13,9 +14,11 @@
 #include "lockstep/body_ids.hpp"
 #include "lockstep/input.hpp"
 #include "lockstep/math/vec.hpp"
+#include "lockstep/physics/box_box.hpp"
 #include "lockstep/physics/params.hpp"
 #include "lockstep/physics/settle.hpp"
 #include "lockstep/physics/sdf.hpp"
+#include "lockstep/physics/solve_order.hpp"
 #include "lockstep/physics/solver.hpp"
 #include "lockstep/scene.hpp"
 #include "lockstep/snapshot.hpp"
@@ -25,6 +28,7 @@ namespace lockstep {
 namespace snap {
 class Reader;
 }  // namespace snap
+class ThreadPool;
 
 // A run that cannot go on: a Q16.16 overflow or other numeric fault (fixed),
 // or a non-finite value (float engines). Names body, frame and quantity.
@@ -158,6 +162,13 @@ class World {
   using StageObserver = std::function<void(FrameStage, World&)>;
   void step(const StageObserver& after_stage);
   int frame() const { return frame_; }
+  // Threads (docs/SPEC.md 7.7 "Threads"): step() runs its parallel parts
+  // (the solver's per-body visits and colours, eqs 125-127) on `threads`
+  // threads, the caller's included; 1 (the default) runs everything on the
+  // caller's. Every frame's bits are the same for every count. Throws
+  // std::invalid_argument naming the value when threads < 1 or > 256.
+  void set_threads(int threads);
+  int threads() const { return threads_; }
   const Scene& scene() const { return scene_; }
   const Params<T>& params() const { return P_; }
   const Effects& effects() const { return scene_.effects; }
@@ -275,6 +286,12 @@ class World {
   void update_derived(Body<T>& b);
   Vec3<T> support_normal(std::size_t i) const;  // body i's support normal (4.1), towards i
   void check_faults(int body, const char* quantity);
+  // Runs body(k, part) for k in [0, count) on the world's threads, cut into
+  // at most threads() contiguous ranges of at least `grain` items, part the
+  // range's number (thread_pool.hpp); a RunError of the lowest k that threw
+  // is rethrown.
+  template <class Body>
+  void parallel_for(std::size_t count, std::size_t grain, const Body& body);
   void check_finite();
   void read_moving_state(snap::Reader& r, std::uint32_t frame, bool derived_valid);  // snapshot.hpp
   void read_ids_and_forces(snap::Reader& r);  // snapshot_load.hpp
@@ -346,6 +363,7 @@ class World {
   BroadScratch broad_;
   // Stage 3-4 scratch (narrow_phase.hpp): this frame's body-pair contacts.
   std::vector<Contact<T>> pair_contacts_;
+  std::vector<BoxManifold<T>> pair_manifolds_;  // per pair of pairs_: its manifold (eqs 100-106; count 0: none)
   // Stage 5 scratch (contact_solver.hpp): the visits, as [begin, end) in
   // contacts_; per body, how many visits of this solve changed its velocity;
   // per visit, whether its last visit applied no impulse, and the versions of
@@ -362,11 +380,25 @@ class World {
   std::vector<unsigned> velocity_version_;
   std::vector<IdleVisit> idle_visits_;
   std::vector<T> visit_split_;  // per visit: eq 99's split (manifold_split), formed once per solve
+  // The solver's order (eqs 125-127, physics/solve_order.hpp): per awake body
+  // its visits of immovable things ([body_visit_begin_[i], [i + 1]) in
+  // body_visits_), the edges (visits of two awake bodies) by colour
+  // ([colour_begin_[c], [c + 1]) in colour_visits_), and the awake bodies
+  // with any visit of their own.
+  std::vector<int> body_visit_begin_, body_visits_, visit_bodies_;
+  std::vector<int> colour_begin_, colour_visits_;
+  struct SolveEdge { EdgeKey key; int visit; };
+  std::vector<SolveEdge> edges_;
+  std::vector<int> colour_top_;  // per body: the largest colour of its edges so far (eq 127)
+  std::vector<std::pair<std::uint64_t, int>> own_visits_;  // (body << 32 | other + 1, visit), sorted
+  T band_inv_{};                 // eq 125's 1 / band, from the bodies awake after stage 2a
   bool oriented_correction_ = false;  // eq 110's penetration (less what the stage moved) for pairs too
   T ground_y_{}, ground_e_{}, ground_mu_{};
   std::vector<T> sdf_e_, sdf_mu_;
   StageCounters counters_;
   int frame_ = 0;
+  int threads_ = 1;
+  std::shared_ptr<ThreadPool> pool_;  // threads_ > 1: made on the first parallel region (not copied)
   // Run-time inputs: the id table and the forces pending for the next step
   // (eq 121), ascending body index.
   BodyIds ids_;

@@ -69,6 +69,14 @@ class EngineRun {
   virtual StageCounters counters() const = 0;
   // Raw Q16.16 state of body i (p, q, v, w: 13 int32) for the fixed engine; empty otherwise.
   virtual std::vector<std::int32_t> raw_state(int /*i*/) const { return {}; }
+  // Steps on `threads` threads from now on (docs/SPEC.md 7.7 "Threads"):
+  // the CPU engines (World<T>::set_threads), the same bits for every count.
+  // Others take 1 only; they throw std::invalid_argument naming the value.
+  virtual void set_threads(int threads) {
+    if (threads != 1)
+      throw std::invalid_argument("--threads " + std::to_string(threads) + ": the " + name() +
+                                  " engine schedules its own work; threads apply to fixed, float, double and mp (give 1)");
+  }
   // Whether contacts() reports the engine's contacts (the CPU engines do).
   virtual bool has_contacts() const { return false; }
   // The contacts found in the last step, in the engine's order.
@@ -144,6 +152,7 @@ class WorldRun final : public EngineRun {
   std::string name() const override { return Num<T>::kName; }
   std::string description() const override;
   void step() override { world_.step(); }
+  void set_threads(int threads) override { world_.set_threads(threads); }
   std::vector<StageState> step_stages() override;
   void apply(const Input& input) override { world_.apply(input); }
   int frame() const override { return world_.frame(); }

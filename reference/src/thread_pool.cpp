@@ -1,0 +1,81 @@
+// ThreadPool (thread_pool.hpp): workers wait for a new generation, spinning
+// a little first (a frame opens a region per solver colour, a few hundred a
+// frame, microseconds apart), then blocking on the atomic (C++20 wait).
+#include "thread_pool.hpp"
+
+namespace lockstep {
+
+#if defined(LOCKSTEP_NO_THREADS)
+ThreadPool::ThreadPool(int threads) : threads_(threads > 1 ? threads : 1) {}
+ThreadPool::~ThreadPool() = default;
+int ThreadPool::workers() const { return 0; }
+void ThreadPool::run_erased(int parts, Fn fn, const void* arg) {
+  for (int k = 0; k < parts; ++k) fn(arg, k);
+}
+void ThreadPool::work(int) {}
+#else
+namespace {
+// Spins before a worker blocks, and before the caller yields while it waits.
+constexpr int kSpins = 1 << 14;
+}  // namespace
+
+ThreadPool::ThreadPool(int threads) : threads_(threads > 1 ? threads : 1) {
+  const int workers = threads_ - 1;
+  errors_.resize(static_cast<std::size_t>(workers) + 1);
+  workers_.reserve(static_cast<std::size_t>(workers));
+  for (int w = 0; w < workers; ++w) workers_.emplace_back([this, w] { work(w + 1); });
+}
+
+int ThreadPool::workers() const { return static_cast<int>(workers_.size()); }
+
+ThreadPool::~ThreadPool() {
+  stop_ = true;
+  generation_.fetch_add(1, std::memory_order_release);
+  generation_.notify_all();
+  for (std::thread& t : workers_) t.join();
+}
+
+void ThreadPool::run_erased(int parts, Fn fn, const void* arg) {
+  fn_ = fn;
+  arg_ = arg;
+  parts_ = parts;
+  for (std::exception_ptr& e : errors_) e = nullptr;
+  pending_.store(static_cast<int>(workers_.size()), std::memory_order_relaxed);  // every worker acknowledges every region
+  generation_.fetch_add(1, std::memory_order_release);  // publishes fn_, arg_, parts_
+  generation_.notify_all();
+  try {
+    fn(arg, 0);
+  } catch (...) {
+    errors_[0] = std::current_exception();
+  }
+  for (int spin = 0; pending_.load(std::memory_order_acquire) != 0; ++spin)
+    if (spin > kSpins) std::this_thread::yield();
+  for (std::exception_ptr& e : errors_)
+    if (e) std::rethrow_exception(e);
+}
+
+void ThreadPool::work(int index) {
+  std::uint32_t seen = 0;
+  for (;;) {
+    std::uint32_t now = generation_.load(std::memory_order_acquire);
+    for (int spin = 0; now == seen && spin < kSpins; ++spin) now = generation_.load(std::memory_order_acquire);
+    while (now == seen) {
+      generation_.wait(seen, std::memory_order_acquire);
+      now = generation_.load(std::memory_order_acquire);
+    }
+    seen = now;
+    if (stop_) return;
+    if (index < parts_) {
+      try {
+        fn_(arg_, index);
+      } catch (...) {
+        errors_[static_cast<std::size_t>(index)] = std::current_exception();
+      }
+    }
+    pending_.fetch_sub(1, std::memory_order_acq_rel);  // (a worker without a part too: none lags a region behind)
+  }
+}
+
+#endif
+
+}  // namespace lockstep

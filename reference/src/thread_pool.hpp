@@ -1,0 +1,63 @@
+// World<T>'s workers (docs/SPEC.md 7.7 "Threads"): a fixed set of
+// threads that run the parts of one parallel region. The parts a region is
+// cut into, and what each part does, are decided by the caller from the
+// work alone (never from timing), so a result does not depend on which
+// thread ran which part, nor on how many threads there are.
+#pragma once
+#include <atomic>
+#include <cstdint>
+#include <exception>
+#include <vector>
+
+// Targets without threads (WASI; Emscripten without -pthread): the pool has
+// no workers and runs every part on the caller's thread (the same bits).
+#if defined(__wasi__) || (defined(__EMSCRIPTEN__) && !defined(__EMSCRIPTEN_PTHREADS__))
+#define LOCKSTEP_NO_THREADS 1
+#else
+#include <thread>
+#endif
+
+namespace lockstep {
+
+class ThreadPool {
+ public:
+  // `threads` >= 1 threads in all: the caller and threads - 1 workers.
+  explicit ThreadPool(int threads);
+  ~ThreadPool();
+  ThreadPool(const ThreadPool&) = delete;
+  ThreadPool& operator=(const ThreadPool&) = delete;
+  int size() const { return threads_; }
+
+  // Runs part(k) for k in [0, parts), parts <= size(): part 0 on the calling
+  // thread, part k on worker k - 1; returns when every part has returned.
+  // An exception thrown by a part is caught and rethrown here (the lowest
+  // part's when several throw).
+  template <class Part>
+  void run(int parts, const Part& part) {
+    if (parts <= 1 || workers() == 0) {
+      for (int k = 0; k < parts; ++k) part(k);
+      return;
+    }
+    run_erased(parts, [](const void* p, int k) { (*static_cast<const Part*>(p))(k); }, &part);
+  }
+
+ private:
+  using Fn = void (*)(const void*, int);
+  void run_erased(int parts, Fn fn, const void* arg);
+  void work(int index);
+  int workers() const;
+
+  int threads_ = 1;
+#if !defined(LOCKSTEP_NO_THREADS)
+  std::vector<std::thread> workers_;
+#endif
+  std::vector<std::exception_ptr> errors_;  // per part
+  Fn fn_ = nullptr;
+  const void* arg_ = nullptr;
+  int parts_ = 0;
+  std::atomic<std::uint32_t> generation_{0};  // bumped to start a region (and to stop)
+  std::atomic<int> pending_{0};               // workers that have not finished this region
+  bool stop_ = false;
+};
+
+}  // namespace lockstep
