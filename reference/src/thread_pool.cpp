@@ -3,6 +3,8 @@
 // frame, microseconds apart), then blocking on the atomic (C++20 wait).
 #include "thread_pool.hpp"
 
+#include <chrono>
+
 namespace lockstep {
 
 #if defined(LOCKSTEP_NO_THREADS)
@@ -15,8 +17,32 @@ void ThreadPool::run_erased(int parts, Fn fn, const void* arg) {
 void ThreadPool::work(int) {}
 #else
 namespace {
-// Spins before a worker blocks, and before the caller yields while it waits.
-constexpr int kSpins = 1 << 14;
+// How long a waiting thread spins before it blocks (a worker) or yields (the
+// caller): a frame opens its regions microseconds apart within a stage, and
+// a worker that blocked costs a wake-up (tens of microseconds on a VM) at the
+// next one; between stages it blocks, so that it does not slow the caller's
+// serial work (a spinning hyperthread sibling halves it).
+constexpr auto kSpin = std::chrono::microseconds(50);
+// A spin loop's pause: lets the sibling hyperthread run.
+inline void relax() {
+#if defined(__x86_64__) || defined(__i386__)
+  __builtin_ia32_pause();
+#elif defined(__aarch64__) || defined(__arm__)
+  asm volatile("yield");
+#endif
+}
+// Spins (with relax) until done() or kSpin has passed; returns done().
+template <class Done>
+bool spin(const Done& done) {
+  const auto until = std::chrono::steady_clock::now() + kSpin;
+  for (;;) {
+    for (int k = 0; k < 64; ++k) {
+      if (done()) return true;
+      relax();
+    }
+    if (std::chrono::steady_clock::now() >= until) return done();
+  }
+}
 }  // namespace
 
 ThreadPool::ThreadPool(int threads) : threads_(threads > 1 ? threads : 1) {
@@ -48,8 +74,8 @@ void ThreadPool::run_erased(int parts, Fn fn, const void* arg) {
   } catch (...) {
     errors_[0] = std::current_exception();
   }
-  for (int spin = 0; pending_.load(std::memory_order_acquire) != 0; ++spin)
-    if (spin > kSpins) std::this_thread::yield();
+  auto done = [this] { return pending_.load(std::memory_order_acquire) == 0; };
+  while (!spin(done)) std::this_thread::yield();
   for (std::exception_ptr& e : errors_)
     if (e) std::rethrow_exception(e);
 }
@@ -57,8 +83,8 @@ void ThreadPool::run_erased(int parts, Fn fn, const void* arg) {
 void ThreadPool::work(int index) {
   std::uint32_t seen = 0;
   for (;;) {
-    std::uint32_t now = generation_.load(std::memory_order_acquire);
-    for (int spin = 0; now == seen && spin < kSpins; ++spin) now = generation_.load(std::memory_order_acquire);
+    std::uint32_t now = seen;
+    spin([&] { return (now = generation_.load(std::memory_order_acquire)) != seen; });
     while (now == seen) {
       generation_.wait(seen, std::memory_order_acquire);
       now = generation_.load(std::memory_order_acquire);

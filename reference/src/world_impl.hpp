@@ -5,6 +5,7 @@
 #include "thread_pool.hpp"
 #include "lockstep/world.hpp"
 
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -205,8 +206,9 @@ void World<T>::parallel_for(std::size_t count, std::size_t grain, const Body& bo
   if (!pool_ || pool_->size() != threads_) pool_ = std::make_shared<ThreadPool>(threads_);
   // A part stops at its first RunError; the lowest item's is rethrown, the
   // one a single thread would have met first.
-  std::vector<std::size_t> failed(parts, count);
-  std::vector<std::exception_ptr> errors(parts);
+  std::array<std::size_t, 256> failed;  // parts <= threads_ <= 256 (set_threads)
+  std::array<std::exception_ptr, 256> errors;
+  failed.fill(count);
   pool_->run(static_cast<int>(parts), [&](int part) {
     const std::size_t lo = count * static_cast<std::size_t>(part) / parts;
     const std::size_t hi = count * static_cast<std::size_t>(part + 1) / parts;

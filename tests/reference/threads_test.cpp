@@ -1,7 +1,7 @@
 // World<T> on N threads (docs/SPEC.md 7.7 "Threads", eqs 125-127): every
 // frame's state hash and counters are the same for N in {1, 2, 3, 8}, on
 // random perturbed piles large enough that the solver's steps are cut into
-// several parts (a step runs in parallel only from 32 visits up).
+// several parts (a step runs in parallel only from 16 visits up).
 #include <gtest/gtest.h>
 #include <rapidcheck.h>
 #include <rapidcheck/gtest.h>
