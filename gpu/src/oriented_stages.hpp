@@ -23,7 +23,6 @@ struct RestArrays {
   F4* rest = nullptr;    // 4 per body
   F4* last = nullptr;    // 4 per body: where the point was at the frame's start (eq 108's speed)
 };
-inline constexpr int kMaxRests = 4;
 
 // eq 124's records, per body: written when it falls asleep (SleepApplyK).
 struct SleepSupportArrays {
@@ -83,8 +82,8 @@ struct SupportWakeK {
       if (!awake) continue;
       const Mat3<float> R = rotation_matrix(quat(ro(b.rot + s)));
       const Vec3<float> now = support_point(xyz(ro(b.pos + s)), R, xyz(ro(rests.local + kMaxRests * i + r)));
-      if (support_moved(now, xyz(ro(rests.rest + kMaxRests * i + r)), sc.P.wake_support_distance) ||
-          support_moved(now, xyz(ro(rests.last + kMaxRests * i + r)), sc.P.sleep_linear * sc.P.dt))  // eq 108
+      if (support_carried_away(now, xyz(ro(rests.rest + kMaxRests * i + r)), xyz(ro(rests.last + kMaxRests * i + r)),
+                               sc.P))  // eq 108
         woke = 1;
     }
     out[i] = woke;
@@ -142,9 +141,8 @@ LS_HD void walk_pairs_in_order(int i, float yi, int beg, int end, const BodyArra
   bool started = false;
   float last_y = 0.0f;
   int last_lo = 0, last_hi = 0;
-  auto before = [](float y1, int lo1, int hi1, float y2, int lo2, int hi2) {
-    if (y1 != y2) return y1 < y2;
-    return lo1 != lo2 ? lo1 < lo2 : hi1 < hi2;
+  auto before = [](float y1, int lo1, int hi1, float y2, int lo2, int hi2) {  // (height, index), then the other index
+    return settles_before(y1, lo1, y2, lo2) || (y1 == y2 && lo1 == lo2 && hi1 < hi2);
   };
   for (;;) {
     int best = -1;
@@ -216,7 +214,7 @@ struct PairCorrectK {
       Vec3<float> pa = lower ? p : q, pb = lower ? q : p;
       const Vec3<float> n = xyz(ro(&rec.n));
       manifold_correction(pa, lower ? p0 : pj0, pb, lower ? pj0 : p0, n, ro(&rec.depth), inv_a, inv_b,
-                          Num<float>::abs(n.y) >= sc.P.support_normal_min, sc.P.slop, sc.P.baumgarte);  // eq 110
+                          is_support_pair(n, sc.P.support_normal_min), sc.P.slop, sc.P.baumgarte);  // eq 110
       p = lower ? pa : pb;
     });
     p_out[k] = f4(p, pi4.w);
@@ -278,11 +276,7 @@ struct PairTurnK {
       if (A.inv_mass == 0.0f && B.inv_mass == 0.0f) return;
       const PairManifold& rec = man[t];
       const Vec3<float> n = xyz(ro(&rec.n));
-      if (Num<float>::abs(n.y) >= sc.P.support_normal_min) {  // eq 110: only the upper side moves, if it can
-        BodyView<float>& up = n.y > 0.0f ? A : B;
-        BodyView<float>& down = n.y > 0.0f ? B : A;
-        if (up.inv_mass > 0.0f) { down.inv_mass = 0.0f; down.inv_inertia = Vec3<float>{}; }
-      }
+      hold_lower_side(A, B, n, sc.P.support_normal_min);  // eq 111: only the upper side moves, if it can
       const Vec3<float> pa0 = lower ? p0 : pj0, pb0 = lower ? pj0 : p0;
       const int count = ro(&rec.count);
       for (int c = 0; c < count; ++c) {
@@ -370,12 +364,11 @@ struct SleepSweepK {
         const int j = ro(lists.nbr + t);
         const Vec3<float> n = xyz(ro(&rec.n));
         const float up = i < j ? n.y : -n.y;
-        if (count == 0 || up < sc.P.support_normal_min || !is_awake(ro(b.flags + j))) continue;
-        bool touching = false;
-        for (int c = 0; c < count; ++c) touching = touching || ro(&rec.pt[c].w) > -sc.P.slop;
-        if (!touching) continue;
-        const float yj = ro(b.pos + j).y;
-        const bool earlier = yj != yi ? yj < yi : j < i;
+        if (!is_awake(ro(b.flags + j))) continue;
+        bool rests = false;  // eq 109: on j
+        for (int c = 0; c < count; ++c) rests = rests || rests_on_contact(ro(&rec.pt[c].w), up, sc.P);
+        if (!rests) continue;
+        const bool earlier = settles_before(ro(b.pos + j).y, j, yi, i);
         if (!(earlier && ro(in + ro(slot_of + j)) != 0)) sleeps = 0;
       }
     }
@@ -431,16 +424,15 @@ struct SleepApplyK {
         const Vec3<float> nn = xyz(rec.n);
         const float up = i < j ? nn.y : -nn.y;
         for (int c = 0; c < rec.count; ++c) {
-          if (!(rec.pt[c].w > -sc.P.slop) || (up < sc.P.support_normal_min && !leans_i)) continue;
+          if (!records_rest(rec.pt[c].w, up, leans_i, sc.P)) continue;
           if (ro(b.pos + j).w == 0.0f) continue;  // a static body (inverse mass 0; its flags may be written now)
-          bool seen = false;
-          for (int r = 0; r < n; ++r) seen = seen || rests.body[kMaxRests * i + r] == j;
-          if (seen) continue;
-          if (n == kMaxRests) { full = true; break; }
+          const int slot = rest_slot(n, j, [&](int r) { return rests.body[kMaxRests * i + r]; });
+          if (slot < 0) continue;
+          if (slot == kMaxRests) { full = true; break; }
           const F4 pj4 = ro(b.pos + j);
           const Mat3<float> R = rotation_matrix(quat(b.rot[j]));
           const Vec3<float> pj = xyz(pj4);
-          const Vec3<float> local = mat_transpose_mul(R, xyz(rec.pt[c]) - pj);
+          const Vec3<float> local = support_local(pj, R, xyz(rec.pt[c]));
           rests.body[kMaxRests * i + n] = j;
           rests.local[kMaxRests * i + n] = f4(local, 0.0f);
           rests.rest[kMaxRests * i + n] = rests.last[kMaxRests * i + n] = f4(support_point(pj, R, local), 0.0f);

@@ -767,7 +767,6 @@ struct ContactsK {
     const BodyView<float> self0 = dynamic_view(v0, w0, pi4.w, R, xyz(in4));
     BodyView<float> self = self0;  // warm-started velocity
     const float e_self = h4.w, mu_self = in4.w;
-    const float min_up = sc.P.support_normal_min, slop = sc.P.slop;
     const float itol = sc.immovable_tol(i);  // eqs 97, 107
     const bool had = prev.had(i);
     const int prev_slot = had ? ro(prev.slot_of + i) : 0;
@@ -779,11 +778,8 @@ struct ContactsK {
     int support = kNoSupport;
     Vec3<float> support_sum{};
     float support_gap_min{};
-    // A contact within support_fade whose normal towards i faces up
-    // (n.y >= support_normal_min): its weighted normal joins the support
-    // normal (eq 98); within slop it is a support contact (the first names the
-    // support, the smallest gap is the support gap, eq 75).
-    const float fade = sc.P.support_fade;  // max(slop, |g dt| dt): every support contact weighs > 0
+    // Its support (add_support_contact, eqs 75, 98, 112): the first support
+    // contact names the support.
     Vec3<float> arms[kMaxSupportPoints];   // eq 112: the lever arms of its support contacts
     int n_arms = 0;                        // kMaxSupportPoints + 1: too many to look at
     bool loaded = false;                   // eq 112: it touches (within slop) something not a support
@@ -791,22 +787,16 @@ struct ContactsK {
     int parent = kLoadNone;                // eq 117: fold_load_parent over the support contacts
     // v_n: the contact's closing speed (contact_closing_speed, the lower body first).
     // mu2: the other side's friction; movable: the other side is a dynamic body, awake or asleep (eqs 117, 124).
-    auto add_support = [&](int who, const Vec3<float>& n, float penetration, const Vec3<float>& point, float v_n,
-                           float mu2, bool movable) {
-      support_sum += n * support_weight(penetration, fade);  // eq 98
-      if (!support_impact(penetration, v_n, sc.P)) {  // eq 112: an impact is not a support point
-        if (n_arms < kMaxSupportPoints) arms[n_arms] = point - p;
-        if (n_arms <= kMaxSupportPoints) ++n_arms;
-      }
-      if (!(penetration > -slop)) return;
+    auto add_support = [&](int who, const Vec3<float>& n, float penetration, const Vec3<float>& point, auto&& v_n,
+                           float mu2, bool movable) {  // eqs 75, 98, 112
+      if (!add_support_contact(support_sum, arms, n_arms, support_gap_min, support != kNoSupport, n, penetration,
+                               point - p, v_n, sc.P))
+        return;
       parent = fold_load_parent(parent, movable ? who : kLoadMany);  // eq 117
-      const float gap = support_gap(penetration);
       if (support == kNoSupport) {
         support = who;
-        support_gap_min = gap;
         support_mu = sc.friction ? combined_friction(mu_self, mu2) : 0.0f;  // eq 58, as prepare_contact
       }
-      support_gap_min = Num<float>::min(support_gap_min, gap);
     };
     // A contact with an immovable thing: its preparation and warm start.
     auto immovable = [&](int e, const Vec3<float>& r1, const Vec3<float>& n, float e2, float mu2, bool cached_ok) {
@@ -825,10 +815,9 @@ struct ContactsK {
         const float depth = ground_corner_depth(p, R, h, c, sc.ground_y, corner);
         if (!(depth > -itol)) continue;
         ++ground_contacts;
-        if (depth > -slop && holds_off_support(up, true, min_up)) loaded = true;  // eq 112
-        if (depth > -fade && up.y >= min_up)
-          add_support(kStaticSupport, up, depth, corner, contact_closing_speed(v0, w0, p, corner, up), sc.ground_mu,
-                      false);
+        if (holds_body(up, depth, true, sc.P)) loaded = true;  // eq 112
+        add_support(kStaticSupport, up, depth, corner, [&] { return contact_closing_speed(v0, w0, p, corner, up); },
+                    sc.ground_mu, false);
         mask |= 1 << c;
         immovable(c, corner - p, up, sc.ground_e, sc.ground_mu, ((prev_mask >> c) & 1) != 0);
       }
@@ -848,10 +837,9 @@ struct ContactsK {
           continue;
         }
         ++sdf_contacts;
-        if (c.penetration > -slop && holds_off_support(c.n, true, min_up)) loaded = true;  // eq 112
-        if (c.penetration > -fade && c.n.y >= min_up)
-          add_support(kStaticSupport, c.n, c.penetration, c.point, contact_closing_speed(v0, w0, p, c.point, c.n),
-                      mat.y, false);
+        if (holds_body(c.n, c.penetration, true, sc.P)) loaded = true;  // eq 112
+        add_support(kStaticSupport, c.n, c.penetration, c.point,
+                    [&] { return contact_closing_speed(v0, w0, p, c.point, c.n); }, mat.y, false);
         immovable(e, xyz(c1) - p, xyz(c0), mat.x, mat.y, had);
       }
     }
@@ -879,18 +867,12 @@ struct ContactsK {
         PairManifold& rec = d.man[t];
         rec.count = mf.count;
         rec.n = f4(mf.n, 0.0f);
-        int deepest = 0;
-        float sum{};
         for (int c = 0; c < kBoxManifoldPoints; ++c) {
           rec.pt[c] = c < mf.count ? f4(mf.point[c], mf.penetration[c]) : F4{};
           rec.feature[c] = c < mf.count ? mf.feature[c] : 0;
-          if (c < mf.count) {
-            if (mf.penetration[c] > mf.penetration[deepest]) deepest = c;
-            sum += mf.penetration[c];
-          }
         }
-        rec.deepest = deepest;
-        rec.depth = mf.count > 0 ? sum / Num<float>::from_int(mf.count) : 0.0f;  // eq 110
+        rec.deepest = deepest_point(mf.penetration, mf.count);
+        rec.depth = mean_depth(mf.penetration, mf.count);  // eq 110
         if (edges.mate != nullptr) init_edge(edges, d.lists, i, t, j, j_awake && mf.count > 0, p.y, pj.y);
         if (mf.count == 0) continue;
         if (!j_awake) ++immovable_bodies;
@@ -912,12 +894,13 @@ struct ContactsK {
         const int prev_count = prev_t >= 0 ? ro(&prev.man[prev_t].count) : 0;
         SolveCounts here;
         for (int c = 0; c < mf.count; ++c) {
-          if (mf.penetration[c] > -slop && holds_off_support(n_i, !j_awake, min_up)) loaded = true;  // eq 112
-          if (mf.penetration[c] > -fade && n_i.y >= min_up)
-            add_support(j, n_i, mf.penetration[c], mf.point[c],
-                        lower ? contact_closing_speed(v0, w0, p, other0.v, other0.w, pj, mf.point[c], mf.n)
-                              : contact_closing_speed(other0.v, other0.w, pj, v0, w0, p, mf.point[c], mf.n),
-                        mu_o, ro(b.pos + j).w != 0.0f);
+          if (holds_body(n_i, mf.penetration[c], !j_awake, sc.P)) loaded = true;  // eq 112
+          add_support(j, n_i, mf.penetration[c], mf.point[c],
+                      [&] {
+                        return lower ? contact_closing_speed(v0, w0, p, other0.v, other0.w, pj, mf.point[c], mf.n)
+                                     : contact_closing_speed(other0.v, other0.w, pj, v0, w0, p, mf.point[c], mf.n);
+                      },
+                      mu_o, ro(b.pos + j).w != 0.0f);
           const Vec3<float> r1 = mf.point[c] - (lower ? p : pj), r2 = mf.point[c] - (lower ? pj : p);
           ContactState<float> cs =
               prepare_contact(pick(lower, self0, other0), r1, pick(lower, other0, self0), r2, mf.n,
@@ -944,13 +927,14 @@ struct ContactsK {
       if (!j_awake) ++immovable_bodies;
       if (edges.mate != nullptr) init_edge(edges, d.lists, i, t, j, j_awake, p.y, pj.y);
       if (j_awake && ((directions >> shift) & 255u) < 255u) directions += Counter{1} << shift;
-      if (pc.penetration > -slop && holds_off_support(n_i, !j_awake, min_up)) loaded = true;  // eq 112
+      if (holds_body(n_i, pc.penetration, !j_awake, sc.P)) loaded = true;  // eq 112
       const BodyView<float> other0 = view_of(b, j, b.vel, b.ang);
-      if (pc.penetration > -fade && n_i.y >= min_up)
-        add_support(j, n_i, pc.penetration, pc.point,
-                    lower ? contact_closing_speed(v0, w0, p, other0.v, other0.w, pj, pc.point, pc.n)
-                          : contact_closing_speed(other0.v, other0.w, pj, v0, w0, p, pc.point, pc.n),
-                    ro(b.inert + j).w, ro(b.pos + j).w != 0.0f);
+      add_support(j, n_i, pc.penetration, pc.point,
+                  [&] {
+                    return lower ? contact_closing_speed(v0, w0, p, other0.v, other0.w, pj, pc.point, pc.n)
+                                 : contact_closing_speed(other0.v, other0.w, pj, v0, w0, p, pc.point, pc.n);
+                  },
+                  ro(b.inert + j).w, ro(b.pos + j).w != 0.0f);
       const Vec3<float> r1 = pc.point - (lower ? p : pj), r2 = pc.point - (lower ? pj : p);
       const float e_o = ro(b.half + j).w, mu_o = ro(b.inert + j).w;
       // Body 1 is the lower index (one call for either order: the threads of a
@@ -1359,9 +1343,7 @@ struct SettleSweep {
     if (s == kNoSupport || !settles(i)) return -1.0f;
     Vec3<float> v_s{};
     if (s >= 0 && is_awake(ro(b.flags + s))) {
-      const float ys = ro(b.pos + s).y, yi = ro(b.pos + i).y;
-      const bool lower = ys < yi || (ys == yi && s < i);
-      if (lower && ro(support_idx + s) != kNoSupport && settles(s)) {
+      if (settles_before(ro(b.pos + s).y, s, ro(b.pos + i).y, i) && ro(support_idx + s) != kNoSupport && settles(s)) {
         const F4 settled = ro(sin + s);
         v_s = xyz(settled);
         final = settled.w != 0.0f;
@@ -1467,21 +1449,15 @@ struct CorrectIntegrateK {
     if (sc.ground_on) {  // the deepest corner (first on ties, a resting one before a bouncing one) carries the correction
       const Mat3<float> R = rotation_matrix(q0);
       const Vec3<float> h = xyz(ro(b.half + i));
-      int deepest = -1;
-      float deepest_depth = 0.0f;
-      for (int c = 0; c < 8; ++c) {
+      auto corner_depth = [&](int c, float& depth) {
         Vec3<float> corner;
-        const float depth = ground_corner_depth(p0, R, h, c, sc.ground_y, corner);
-        if (!(depth > -tol)) continue;
-        // On ties a corner that does not bounce first (World's tie rule, eq 89).
-        if (deepest < 0 || depth > deepest_depth ||
-            (depth == deepest_depth && ro(&imm[k * sc.imm_stride() + deepest].b).y > 0.0f &&
-             !(ro(&imm[k * sc.imm_stride() + c].b).y > 0.0f))) {
-          deepest = c;
-          deepest_depth = depth;
-        }
-      }
-      if (deepest >= 0 && !(ro(&imm[k * sc.imm_stride() + deepest].b).y > 0.0f) && inv_self != 0.0f) {
+        depth = ground_corner_depth(p0, R, h, c, sc.ground_y, corner);
+        return depth > -tol;
+      };
+      auto bounces = [&](int c) { return ro(&imm[k * sc.imm_stride() + c].b).y > 0.0f; };
+      float deepest_depth = 0.0f;
+      const int deepest = ground_correction_point(8, corner_depth, bounces, deepest_depth);  // eq 89's tie rule
+      if (deepest >= 0 && !bounces(deepest) && inv_self != 0.0f) {
         const Vec3<float> up{0.0f, Num<float>::from_int(1), 0.0f};
         baumgarte_correction(p, dummy, up, deepest_depth - dot(p - p0, up), inv_self, 0.0f, slop, percent);
         ++corrections;

@@ -35,7 +35,6 @@ void World<T>::narrow_phase() {
       const T pair_tol = (ga - half_tol) + (gb - half_tol) + P_.contact_tolerance;
       const BoxManifold<T> m = box_box_manifold(A.p, A.R, A.half, B.p, B.R, B.half, pair_tol);
       check_faults(i, "box-box contact");
-      int deepest = -1;
       const auto first = pair_contacts.size();
       for (int k = 0; k < m.count; ++k) {
         Contact<T> c;
@@ -46,17 +45,12 @@ void World<T>::narrow_phase() {
         c.point = m.point[k];
         c.feature = m.feature[k];
         c.corrects = false;
-        if (deepest < 0 || c.penetration > m.penetration[deepest]) deepest = k;
         pair_contacts.push_back(c);
         ++counters_.body_contacts;
       }
-      if (deepest >= 0) {
-        // eq 110: the pair is corrected by the mean depth of its points (a
-        // tilted box resting on one corner is not lifted by that corner).
-        T sum{};
-        for (int k = 0; k < m.count; ++k) sum += m.penetration[k];
-        Contact<T>& d = pair_contacts[first + static_cast<std::size_t>(deepest)];
-        d.correct_depth = sum / Num<T>::from_int(m.count);
+      if (m.count > 0) {  // eq 110: the pair is corrected by the mean depth of its points
+        Contact<T>& d = pair_contacts[first + static_cast<std::size_t>(deepest_point(m.penetration, m.count))];
+        d.correct_depth = mean_depth(m.penetration, m.count);
         d.corrects = true;
       }
       continue;
@@ -165,45 +159,29 @@ void World<T>::narrow_phase() {
   n_arms_.assign(bodies_.size(), 0);
   std::vector<int>& n_arms = n_arms_;
   std::vector<char> loaded(bodies_.size(), 0);
-  auto add_support = [&](int body, std::size_t ci, const Vec3<T>& n, const T& penetration) {
+  auto add_support = [&](int body, std::size_t ci, const Vec3<T>& n) {  // eqs 75, 98, 112
     const auto i = static_cast<std::size_t>(body);
-    support_n_[i] += n * support_weight(penetration, P_.support_fade);
     const Contact<T>& cc = contacts_[ci];
-    bool impact = false;  // eq 112: an impact is not a support point
-    if (!(penetration > -P_.slop)) {
+    auto v_n = [&] {
       const Body<T>& A = bodies_[static_cast<std::size_t>(cc.a)];
-      T v_n;
-      if (cc.b >= 0) {
-        const Body<T>& B = bodies_[static_cast<std::size_t>(cc.b)];
-        v_n = contact_closing_speed(A.v, A.w, A.p, B.v, B.w, B.p, cc.point, cc.n);
-      } else {
-        v_n = contact_closing_speed(A.v, A.w, A.p, cc.point, cc.n);
-      }
-      impact = support_impact(penetration, v_n, P_);
-    }
-    if (!impact) {
-      if (n_arms[i] < kMaxSupportPoints) support_arms_[i][static_cast<std::size_t>(n_arms[i])] = contacts_[ci].point - bodies_[i].p;
-      if (n_arms[i] <= kMaxSupportPoints) ++n_arms[i];  // kMaxSupportPoints + 1: too many to look at
-    }
-    if (!(penetration > -P_.slop)) return;
-    const T gap = support_gap(penetration);
-    if (support_[i] < 0) {
+      if (cc.b < 0) return contact_closing_speed(A.v, A.w, A.p, cc.point, cc.n);
+      const Body<T>& B = bodies_[static_cast<std::size_t>(cc.b)];
+      return contact_closing_speed(A.v, A.w, A.p, B.v, B.w, B.p, cc.point, cc.n);
+    };
+    if (add_support_contact(support_n_[i], support_arms_[i].data(), n_arms[i], support_gap_[i], support_[i] >= 0, n,
+                            cc.penetration, cc.point - bodies_[i].p, v_n, P_) &&
+        support_[i] < 0)
       support_[i] = static_cast<int>(ci);
-      support_gap_[i] = gap;
-    }
-    support_gap_[i] = Num<T>::min(support_gap_[i], gap);
   };
   for (std::size_t ci = 0; ci < contacts_.size(); ++ci) {
     const Contact<T>& c = contacts_[ci];
-    if (c.penetration > -P_.slop) {  // eq 112's holds; immovable: ground, SDF, static, asleep
-      const bool a_immovable = !bodies_[static_cast<std::size_t>(c.a)].awake();
-      const bool b_immovable = c.b < 0 || !bodies_[static_cast<std::size_t>(c.b)].awake();
-      if (holds_off_support(c.n, b_immovable, P_.support_normal_min)) loaded[static_cast<std::size_t>(c.a)] = 1;
-      if (c.b >= 0 && holds_off_support(-c.n, a_immovable, P_.support_normal_min)) loaded[static_cast<std::size_t>(c.b)] = 1;
-    }
-    if (!(c.penetration > -P_.support_fade)) continue;
-    if (c.n.y >= P_.support_normal_min) add_support(c.a, ci, c.n, c.penetration);
-    if (c.b >= 0 && -c.n.y >= P_.support_normal_min) add_support(c.b, ci, -c.n, c.penetration);
+    // eq 112's holds; immovable: ground, SDF, static, asleep
+    const bool a_immovable = !bodies_[static_cast<std::size_t>(c.a)].awake();
+    const bool b_immovable = c.b < 0 || !bodies_[static_cast<std::size_t>(c.b)].awake();
+    if (holds_body(c.n, c.penetration, b_immovable, P_)) loaded[static_cast<std::size_t>(c.a)] = 1;
+    if (c.b >= 0 && holds_body(-c.n, c.penetration, a_immovable, P_)) loaded[static_cast<std::size_t>(c.b)] = 1;
+    add_support(c.a, ci, c.n);
+    if (c.b >= 0) add_support(c.b, ci, -c.n);
   }
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     if (support_[i] >= 0) support_n_[i] = normalize(support_n_[i]);

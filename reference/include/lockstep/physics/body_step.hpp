@@ -155,4 +155,18 @@ LS_HD bool support_moved(const Vec3<T>& now, const Vec3<T>& from, const T& limit
   return max_abs(now - from) > limit;
 }
 
+// eq 108: a supporter has carried the sleeper's support point away: `now`
+// more than wake_support_distance from `rest`, or more than sleep_linear dt
+// from `last`.
+template <class T>
+LS_HD bool support_carried_away(const Vec3<T>& now, const Vec3<T>& rest, const Vec3<T>& last, const Params<T>& P) {
+  return support_moved(now, rest, P.wake_support_distance) || support_moved(now, last, P.sleep_linear * P.dt);
+}
+
+// eq 108: a support point as recorded: in its supporter's frame (at p, turned by R).
+template <class T>
+LS_HD Vec3<T> support_local(const Vec3<T>& p, const Mat3<T>& R, const Vec3<T>& point) {
+  return mat_transpose_mul(R, point - p);
+}
+
 }  // namespace lockstep

@@ -191,6 +191,38 @@ LS_HD bool support_impact(const T& penetration, const T& v_n, const Params<T>& P
   return !(penetration > -P.slop) && v_n < -P.rest_speed;
 }
 
+// eq 112: whether a contact touching a body (within slop) holds it beyond its
+// support (holds_off_support); n: its normal towards the body.
+template <class T>
+LS_HD bool holds_body(const Vec3<T>& n, const T& penetration, bool immovable, const Params<T>& P) {
+  return penetration > -P.slop && holds_off_support(n, immovable, P.support_normal_min);
+}
+
+// eqs 75, 98, 112: one contact of a body joins its support, in contact order.
+// n: its normal towards the body; arm: its point less the body's centre;
+// v_n(): its closing speed (contact_closing_speed, asked of a speculative
+// contact only). Within support_fade and facing up (n.y >=
+// support_normal_min), its weighted normal joins n_sum (98) and, unless it is
+// an impact, its lever arm joins arms (112; n_arms goes up to
+// kMaxSupportPoints + 1: too many to look at); within slop it is a support
+// contact and its gap joins the support gap (75; `supported`: the body had a
+// support contact before). Returns whether it is a support contact.
+template <class T, class ClosingSpeed>
+LS_HD bool add_support_contact(Vec3<T>& n_sum, Vec3<T>* arms, int& n_arms, T& gap, bool supported, const Vec3<T>& n,
+                               const T& penetration, const Vec3<T>& arm, ClosingSpeed&& v_n, const Params<T>& P) {
+  if (!(penetration > -P.support_fade) || !(n.y >= P.support_normal_min)) return false;
+  n_sum += n * support_weight(penetration, P.support_fade);  // eq 98
+  const bool speculative = !(penetration > -P.slop);
+  if (!(speculative && support_impact(penetration, v_n(), P))) {  // eq 112: an impact is no support point
+    if (n_arms < kMaxSupportPoints) arms[n_arms] = arm;
+    if (n_arms <= kMaxSupportPoints) ++n_arms;
+  }
+  if (speculative) return false;
+  const T g = support_gap(penetration);  // eq 75
+  gap = supported ? Num<T>::min(gap, g) : g;
+  return true;
+}
+
 // eq 115: whether a body leans: a contact holds it (`held`:
 // holds_off_support, a wall, a neighbour beside it, a sleeper above it) and
 // either it has no support contact (`supported`: wedged between steep
