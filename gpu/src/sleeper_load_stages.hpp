@@ -102,16 +102,17 @@ struct SleeperLoadK {
   LS_HD void operator()(int h) const {
     const int s = ro(heads + h);
     const F4 ps = ro(b.pos + s);
-    const float cap = Num<float>::from_double(kLoadMassCap);
-    float mass = Num<float>::from_int(1) / ps.w;
     const int beg = ro(begin + s), stop = ro(end + s);
-    for (int t = beg; t < stop; ++t) mass = load_mass_add(mass, load_of(ro(child + t)).w, cap);
-    Vec3<float> offset{};
-    for (int t = beg; t < stop; ++t) {
-      const int c = ro(child + t);
-      const F4 lc = load_of(c);
-      offset = load_offset_add(offset, lc.w, mass, xyz(ro(b.pos + c)), xyz(lc), xyz(ps));
-    }
+    auto each_child = [&](auto&& f) {  // ascending index
+      for (int t = beg; t < stop; ++t) {
+        const int c = ro(child + t);
+        const F4 lc = load_of(c);
+        f(lc.w, xyz(ro(b.pos + c)), xyz(lc));
+      }
+    };
+    float mass;
+    Vec3<float> offset;
+    sum_load(ps.w, xyz(ps), each_child, mass, offset);  // eq 117's sums
     const F4 result = f4(offset, mass);
     out[s] = result;
     if (changed != nullptr) {

@@ -966,19 +966,17 @@ struct ContactsK {
     support_idx[i] = support;
     const Vec3<float> n_s = support != kNoSupport ? normalize(support_sum) : Vec3<float>{};
     support_n[i] = f4(n_s, support_gap_min);  // w: the support gap
-    // eq 112, seen along up; a centre on the boundary counts while the body is slow
     if (over_support != nullptr) {
-      const bool over_contacts =
-          support == kNoSupport || lockstep::over_support(arms, n_arms, up, length(w0) < sc.P.sleep_angular);
-      over_support[i] = loaded || over_contacts ? 1 : 0;
-      leaning[i] = leans(support != kNoSupport, loaded, over_contacts) ? 1 : 0;  // eq 115
+      const Stance st = stance_of(arms, n_arms, support != kNoSupport, loaded, w0, sc.P);
+      over_support[i] = st.over ? 1 : 0;  // eq 112
+      leaning[i] = st.leans ? 1 : 0;      // eq 115
     }
     if (settle_limit != nullptr) {  // eq 116
       const Vec3<float> g = sc.gravity ? sc.P.gravity : Vec3<float>{};
-      const bool held_up = support == kNoSupport || loaded || friction_holds(g, n_s, support_mu);
-      settle_limit[i] = support == kNoSupport ? 0.0f : lockstep::settle_limit(held_up, sc.oriented && !loaded, g, n_s,
-                                                                               support_mu, sc.P);
-      can_rest[i] = held_up ? 1 : 0;
+      Footing<float> f;
+      if (support != kNoSupport) f = footing_of(loaded, sc.oriented, g, n_s, support_mu, sc.P);
+      settle_limit[i] = f.limit;
+      can_rest[i] = f.can_rest ? 1 : 0;
     }
     if (load_parent != nullptr) {  // eq 117's inputs
       load_parent[i] = parent >= 0 && settles_before(ro(b.pos + parent).y, parent, p.y, i) ? parent : kLoadNone;

@@ -185,12 +185,9 @@ void World<T>::narrow_phase() {
   }
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     if (support_[i] >= 0) support_n_[i] = normalize(support_n_[i]);
-    // eq 112, seen along up; a centre on the boundary counts while the body is slow
-    const bool over_contacts =
-        support_[i] < 0 || over_support(support_arms_[i].data(), n_arms[i], Vec3<T>{T{}, Num<T>::from_int(1), T{}},
-                                        length(bodies_[i].w) < P_.sleep_angular);
-    over_support_[i] = loaded[i] != 0 || over_contacts;
-    leaning_[i] = oriented && leans(support_[i] >= 0, loaded[i] != 0, over_contacts) ? 1 : 0;  // eq 115
+    const Stance st = stance_of(support_arms_[i].data(), n_arms[i], support_[i] >= 0, loaded[i] != 0, bodies_[i].w, P_);
+    over_support_[i] = st.over;              // eq 112
+    leaning_[i] = oriented && st.leans ? 1 : 0;  // eq 115
   }
   // Stage 6's order (settle() walks it): the supported awake bodies, lowest
   // first (ties: index). Nothing before stage 6 moves or wakes a body.
@@ -212,9 +209,9 @@ void World<T>::narrow_phase() {
     const auto i = static_cast<std::size_t>(idx);
     const Contact<T>& c = contacts_[static_cast<std::size_t>(support_[i])];
     const T mu = scene_.effects.friction ? combined_friction(material_mu(c.a), material_mu(c.b)) : T{};
-    const bool holds = loaded[i] != 0 || friction_holds(g, support_n_[i], mu);
-    can_rest_[i] = holds ? 1 : 0;
-    settle_limit_[i] = settle_limit(holds, oriented && loaded[i] == 0, g, support_n_[i], mu, P_);
+    const Footing<T> f = footing_of(loaded[i] != 0, oriented, g, support_n_[i], mu, P_);
+    can_rest_[i] = f.can_rest ? 1 : 0;
+    settle_limit_[i] = f.limit;
   }
   if (!oriented) return;
   // eq 117: load parents (the one dynamic body below that every support
@@ -293,19 +290,16 @@ template <class T>
 auto World<T>::form_load(int idx, const LoadChildren& children)
     -> std::pair<LoadChildren::const_iterator, LoadChildren::const_iterator> {
   const auto i = static_cast<std::size_t>(idx);
-  const T cap = Num<T>::from_double(kLoadMassCap);
   const auto first = std::lower_bound(children.begin(), children.end(), std::pair<int, int>{idx, -1});
   auto last = first;
-  T mass = Num<T>::from_int(1) / bodies_[i].inv_mass;
-  for (; last != children.end() && last->first == idx; ++last)
-    mass = load_mass_add(mass, load_mass_[static_cast<std::size_t>(last->second)], cap);
-  Vec3<T> offset{};
-  for (auto c = first; c != last; ++c) {
-    const auto j = static_cast<std::size_t>(c->second);
-    offset = load_offset_add(offset, load_mass_[j], mass, bodies_[j].p, load_offset_[j], bodies_[i].p);
-  }
-  load_mass_[i] = mass;
-  load_offset_[i] = offset;
+  while (last != children.end() && last->first == idx) ++last;
+  auto each_child = [&](auto&& f) {
+    for (auto c = first; c != last; ++c) {
+      const auto j = static_cast<std::size_t>(c->second);
+      f(load_mass_[j], bodies_[j].p, load_offset_[j]);
+    }
+  };
+  sum_load(bodies_[i].inv_mass, bodies_[i].p, each_child, load_mass_[i], load_offset_[i]);  // eq 117
   return {first, last};
 }
 

@@ -237,6 +237,27 @@ LS_HD inline bool leans(bool supported, bool held, bool over_contacts) {
   return held && (!supported || !over_contacts);
 }
 
+// eqs 112, 115: a body's stance from its contacts. `over`: it is over its
+// support: something holds it (`held`, holds_body), it has no support
+// contact (`supported` false: nothing to tip about), or its centre, seen
+// along up, is over its support points (over_support on the lever arms
+// `arms`, n_arms of them; a centre on the boundary counts while it turns
+// slower than sleep_angular). `leans`: eq 115.
+struct Stance {
+  bool over = true;
+  bool leans = false;
+};
+template <class T>
+LS_HD Stance stance_of(const Vec3<T>* arms, int n_arms, bool supported, bool held, const Vec3<T>& w,
+                       const Params<T>& P) {
+  const bool over_contacts =
+      !supported || over_support(arms, n_arms, Vec3<T>{T{}, Num<T>::from_int(1), T{}}, length(w) < P.sleep_angular);
+  Stance s;
+  s.over = held || over_contacts;
+  s.leans = leans(supported, held, over_contacts);
+  return s;
+}
+
 // eq 112 (the chain): whether body i (height yi) settles before body s
 // (height ys): stage 6 visits supported bodies in ascending (y, index) order.
 template <class T>
@@ -299,6 +320,24 @@ LS_HD T settle_limit(bool holds, bool spare, const Vec3<T>& g, const Vec3<T>& n,
   return Num<T>::min(P.settle_speed, friction_spare(g, n, mu, P.dt));
 }
 
+// eq 116: a supported body's footing: whether it can rest (something holds
+// it, `held`, or friction holds it against gravity g on its support normal n
+// with its first support contact's friction mu) and the speed up to which
+// eq 77 damps it (settle_limit; `oriented`: the oriented-box model).
+template <class T>
+struct Footing {
+  bool can_rest = true;
+  T limit{};
+};
+template <class T>
+LS_HD Footing<T> footing_of(bool held, bool oriented, const Vec3<T>& g, const Vec3<T>& n, const T& mu,
+                            const Params<T>& P) {
+  Footing<T> f;
+  f.can_rest = held || friction_holds(g, n, mu);
+  f.limit = settle_limit(f.can_rest, oriented && !held, g, n, mu, P);
+  return f;
+}
+
 // eq 117 (Part 4): the load a body carries. A body j's load parent is the
 // one body s that all of its support contacts (touching within slop, Part
 // 4) touch, when s is awake and settles before j (settles_before: lower, so
@@ -331,6 +370,22 @@ LS_HD Vec3<T> load_offset_add(const Vec3<T>& acc, const T& child_mass, const T& 
   return acc + ((child_p - p) + child_offset) * (child_mass / mass);
 }
 inline constexpr double kLoadMassCap = 16384.0;
+
+// eq 117: a body's load (mass M, offset D) from its load children's, in
+// ascending index: each_child(f) calls f(M_j, p_j, D_j) for each child in
+// that order (twice: the masses first, then the offsets).
+template <class T, class EachChild>
+LS_HD void sum_load(const T& inv_mass, const Vec3<T>& p, EachChild&& each_child, T& mass, Vec3<T>& offset) {
+  const T cap = Num<T>::from_double(kLoadMassCap);
+  T m = Num<T>::from_int(1) / inv_mass;
+  each_child([&](const T& child_mass, const Vec3<T>&, const Vec3<T>&) { m = load_mass_add(m, child_mass, cap); });
+  Vec3<T> d{};
+  each_child([&](const T& child_mass, const Vec3<T>& child_p, const Vec3<T>& child_offset) {
+    d = load_offset_add(d, child_mass, m, child_p, child_offset, p);
+  });
+  mass = m;
+  offset = d;
+}
 
 // eq 117: a load tips when a body in it is not over its support (eq 112, or
 // its own load not over it): the body itself, or something in a load
