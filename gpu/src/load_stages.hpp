@@ -7,7 +7,11 @@
 // parents settle before their children, so the chains are acyclic and the
 // fixed point, reached after the longest chain plus one sweep, is World<T>'s.
 #pragma once
-#include "stages.hpp"
+#include "kernel_support.hpp"
+#include "lockstep/gpu/elements.hpp"
+#include "lockstep/gpu/soa.hpp"
+#include "scene_consts.hpp"
+#include "solver_data.hpp"
 
 namespace lockstep::gpu {
 

@@ -9,7 +9,11 @@
 // the one fixed point, World<T>'s result, after as many sweeps as the longest
 // chain of dependencies (a column's height) plus one.
 #pragma once
-#include "stages.hpp"
+#include "contact_records.hpp"
+#include "kernel_support.hpp"
+#include "lockstep/gpu/elements.hpp"
+#include "lockstep/gpu/soa.hpp"
+#include "scene_consts.hpp"
 
 namespace lockstep::gpu {
 
@@ -121,13 +125,6 @@ struct SupportWakeApplyK {
     b.sleep_counter[i] = 0;
     woken[claim_one(n_woken)] = i;
   }
-};
-
-// dst[k] = src[k].
-struct CopyIntsK {
-  const int* src;
-  int* dst;
-  LS_HD void operator()(int k) const { dst[k] = src[k]; }
 };
 
 // ---------------------------------------------------------------------------

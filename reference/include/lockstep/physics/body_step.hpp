@@ -1,7 +1,7 @@
 // Per-body steps of the frame (docs/SPEC.md 7.2 stages 1, 6, 8, 9 and the
 // wake test of stage 4), host and device (LS_HD), generic over the number
 // type: World<T>'s per-body loops (reference/src/) and the GPU engine's
-// kernels (gpu/src/stages.hpp) call these same functions, so the engines
+// kernels (gpu/src/*_stages.hpp) call these same functions, so the engines
 // differ in scheduling, not in formulas.
 #pragma once
 #include "lockstep/math/vec.hpp"
