@@ -38,7 +38,7 @@ struct CorrectIntegrateK {
     const int i = ro(list + k);
     const F4 pi4 = ro(b.pos + i);
     const Vec3<float> p0 = xyz(pi4), a = xyz(ro(b.aabb + i));
-    const float inv_self = pi4.w;
+    const float inv_self = inv_mass_of(pi4);
     Vec3<float> p = p0, dummy{};
     const Quat<float> q0 = quat(ro(b.rot + i));
     Vec3<float> vf = xyz(ro(vpost + i)), wf = xyz(ro(wpost + i));
@@ -71,7 +71,7 @@ struct CorrectIntegrateK {
       const int j = ro(lists.nbr + t);
       const F4 pj4 = ro(b.pos + j);
       const bool j_awake = is_awake(ro(b.flags + j));
-      const float inv_j = j_awake ? pj4.w : 0.0f;
+      const float inv_j = j_awake ? inv_mass_of(pj4) : 0.0f;
       const bool lower = i < j;
       const PairContact<float> c = canonical_pair(sc, i, p0, a, j, xyz(pj4), xyz(ro(b.aabb + j)));
       const float inv_a = lower ? inv_self : inv_j, inv_b = lower ? inv_j : inv_self;

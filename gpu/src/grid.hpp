@@ -40,7 +40,7 @@ struct BoundsOp {
 };
 LS_HD inline Bounds bounds_of(const F4& p, const F4& aabb) {
   Bounds b;
-  b.amax = aabb.w;
+  b.amax = max_half_of(aabb);
   b.lo[0] = b.hi[0] = p.x;
   b.lo[1] = b.hi[1] = p.y;
   b.lo[2] = b.hi[2] = p.z;

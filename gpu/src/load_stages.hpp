@@ -40,7 +40,7 @@ struct LoadK {
     };
     float mass;
     Vec3<float> offset;
-    sum_load(pi4.w, xyz(pi4), each_child, mass, offset);  // eq 117
+    sum_load(inv_mass_of(pi4), xyz(pi4), each_child, mass, offset);  // eq 117
     const F4 result = f4(offset, mass);
     out[i] = result;
     if (changed != nullptr) {

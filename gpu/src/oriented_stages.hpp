@@ -199,8 +199,8 @@ struct PairCorrectK {
       const F4 pj4 = ro(b.pos + j);
       const bool j_awake = is_awake(ro(b.flags + j));
       const bool lower = i < j;
-      const float inv_j = j_awake ? pj4.w : 0.0f;
-      const float inv_a = lower ? pi4.w : inv_j, inv_b = lower ? inv_j : pi4.w;
+      const float inv_j = j_awake ? inv_mass_of(pj4) : 0.0f;
+      const float inv_a = lower ? inv_mass_of(pi4) : inv_j, inv_b = lower ? inv_j : inv_mass_of(pi4);
       if (inv_a == 0.0f && inv_b == 0.0f) return;
       const Vec3<float> pj0 = xyz(pj4);
       Vec3<float> q = pj0;  // j's position before this pair
@@ -214,7 +214,7 @@ struct PairCorrectK {
                           is_support_pair(n, sc.P.support_normal_min), sc.P.slop, sc.P.baumgarte);  // eq 110
       p = lower ? pa : pb;
     });
-    p_out[k] = f4(p, pi4.w);
+    p_out[k] = f4(p, inv_mass_of(pi4));
     if (changed != nullptr) add_to(changed, differ);
   }
 };
@@ -265,8 +265,8 @@ struct PairTurnK {
         const int m = lists.find(ro(slot_of + j), i);
         if (m >= 0) { q = xyz(ro(before_in + m)); wj = xyz(ro(turn_in + m)); }
       }
-      const BodyView<float> me{p - p0, w, pi4.w, Ri, Ii};
-      const BodyView<float> other{q - pj0, wj, j_awake ? pj4.w : 0.0f, rotation_matrix(quat(ro(b.rot + j))),
+      const BodyView<float> me{p - p0, w, inv_mass_of(pi4), Ri, Ii};
+      const BodyView<float> other{q - pj0, wj, j_awake ? inv_mass_of(pj4) : 0.0f, rotation_matrix(quat(ro(b.rot + j))),
                                   j_awake ? xyz(ro(b.inert + j)) : Vec3<float>{}};
       const bool lower = i < j;
       BodyView<float> A = lower ? me : other, B = lower ? other : me;
@@ -285,7 +285,7 @@ struct PairTurnK {
       p = p0 + done.v;
       w = done.w;
     });
-    p_out[k] = f4(p, pi4.w);
+    p_out[k] = f4(p, inv_mass_of(pi4));
     turn_slot[k] = f4(w, 0.0f);
     if (changed != nullptr) add_to(changed, differ);
   }
@@ -323,10 +323,10 @@ struct IntegrateK {
         if (ro(&rec.count) == 0 || ro(&rec.st[ro(&rec.deepest)].b).y > 0.0f) continue;
         const int j = ro(lists.nbr + t);
         const bool j_awake = is_awake(ro(b.flags + j));
-        if ((i < j || !j_awake) && (pi4.w != 0.0f || (j_awake && ro(b.pos + j).w != 0.0f))) ++corrections;
+        if ((i < j || !j_awake) && (inv_mass_of(pi4) != 0.0f || (j_awake && inv_mass_of(ro(b.pos + j)) != 0.0f))) ++corrections;
       }
     }
-    p_out[k] = f4(p, pi4.w);
+    p_out[k] = f4(p, inv_mass_of(pi4));
     q_out[k] = f4(q);
     add_counter(&ctr[kCCorrections], corrections);
   }
@@ -422,7 +422,7 @@ struct SleepApplyK {
         const float up = i < j ? nn.y : -nn.y;
         for (int c = 0; c < rec.count; ++c) {
           if (!records_rest(rec.pt[c].w, up, leans_i, sc.P)) continue;
-          if (ro(b.pos + j).w == 0.0f) continue;  // a static body (inverse mass 0; its flags may be written now)
+          if (inv_mass_of(ro(b.pos + j)) == 0.0f) continue;  // a static body (inverse mass 0; its flags may be written now)
           const int slot = rest_slot(n, j, [&](int r) { return rests.body[kMaxRests * i + r]; });
           if (slot < 0) continue;
           if (slot == kMaxRests) { full = true; break; }

@@ -97,7 +97,7 @@ struct SleeperLoadK {
   LS_HD F4 load_of(int c) const {
     if (is_awake(ro(b.flags + c))) return ro(awake + c);
     if (ro(begin + c) >= 0) return ro(in + c);
-    return F4{0.0f, 0.0f, 0.0f, Num<float>::from_int(1) / ro(b.pos + c).w};
+    return F4{0.0f, 0.0f, 0.0f, Num<float>::from_int(1) / inv_mass_of(ro(b.pos + c))};
   }
   LS_HD void operator()(int h) const {
     const int s = ro(heads + h);
@@ -112,7 +112,7 @@ struct SleeperLoadK {
     };
     float mass;
     Vec3<float> offset;
-    sum_load(ps.w, xyz(ps), each_child, mass, offset);  // eq 117's sums
+    sum_load(inv_mass_of(ps), xyz(ps), each_child, mass, offset);  // eq 117's sums
     const F4 result = f4(offset, mass);
     out[s] = result;
     if (changed != nullptr) {

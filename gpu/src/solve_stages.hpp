@@ -48,7 +48,7 @@ struct SolveK {
     const Mat3<float> R = rotation_matrix(quat(ro(b.rot + i)));
     const Vec3<float> I = xyz(ro(b.inert + i));
     const Vec3<float> v0 = xyz(coloured ? vin[i] : ro(vin + i)), w0 = xyz(coloured ? win[i] : ro(win + i));
-    BodyView<float> self = dynamic_view(v0, w0, pi4.w, R, I);
+    BodyView<float> self = dynamic_view(v0, w0, inv_mass_of(pi4), R, I);
     const float tol = sc.immovable_tol(i);  // eqs 97, 107
     const int stride = sc.imm_stride();
     SolveCounts counts;
@@ -271,9 +271,9 @@ struct SolveEdgeK {
     if (sc.oriented) {  // the pair's manifold (eq 99), i < j
       PairManifold& rec = d.man[t];
       PairManifold& twin = d.man[ro(mate + t)];
-      BodyView<float> A = dynamic_view(xyz(vel[i]), xyz(ang[i]), pi4.w, rotation_matrix(quat(ro(b.rot + i))),
+      BodyView<float> A = dynamic_view(xyz(vel[i]), xyz(ang[i]), inv_mass_of(pi4), rotation_matrix(quat(ro(b.rot + i))),
                                        xyz(ro(b.inert + i)));
-      BodyView<float> B = dynamic_view(xyz(vel[j]), xyz(ang[j]), pj4.w, rotation_matrix(quat(ro(b.rot + j))),
+      BodyView<float> B = dynamic_view(xyz(vel[j]), xyz(ang[j]), inv_mass_of(pj4), rotation_matrix(quat(ro(b.rot + j))),
                                        xyz(ro(b.inert + j)));
       const int count = rec.count;
       const Vec3<float> n = xyz(rec.n);
@@ -310,9 +310,9 @@ struct SolveEdgeK {
       return;
     }
     const PairContact<float> pc = canonical_pair(sc, i, p, xyz(ro(b.aabb + i)), j, pj, xyz(ro(b.aabb + j)));  // i < j
-    BodyView<float> A = dynamic_view(xyz(vel[i]), xyz(ang[i]), pi4.w, rotation_matrix(quat(ro(b.rot + i))),
+    BodyView<float> A = dynamic_view(xyz(vel[i]), xyz(ang[i]), inv_mass_of(pi4), rotation_matrix(quat(ro(b.rot + i))),
                                      xyz(ro(b.inert + i)));
-    BodyView<float> B = dynamic_view(xyz(vel[j]), xyz(ang[j]), pj4.w, rotation_matrix(quat(ro(b.rot + j))),
+    BodyView<float> B = dynamic_view(xyz(vel[j]), xyz(ang[j]), inv_mass_of(pj4), rotation_matrix(quat(ro(b.rot + j))),
                                      xyz(ro(b.inert + j)));
     ContactState<float> cs = load_state(d.pair[t].a, d.pair[t].b);
     SolveCounts counts;

@@ -57,7 +57,7 @@ LS_HD inline BodyView<float> pick(bool c, const BodyView<float>& x, const BodyVi
 LS_HD inline BodyView<float> view_of(const BodyArrays& b, int j, const F4* vel, const F4* ang) {
   if (!is_awake(ro(b.flags + j))) return immovable_view<float>();
   const F4 pj = ro(b.pos + j);
-  return dynamic_view(xyz(ro(vel + j)), xyz(ro(ang + j)), pj.w, rotation_matrix(quat(ro(b.rot + j))),
+  return dynamic_view(xyz(ro(vel + j)), xyz(ro(ang + j)), inv_mass_of(pj), rotation_matrix(quat(ro(b.rot + j))),
                       xyz(ro(b.inert + j)));
 }
 
