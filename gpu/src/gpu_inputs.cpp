@@ -77,10 +77,7 @@ void GpuInputs::erase(std::size_t k) {
 
 BodyId GpuInputs::apply(const Input& in, PipelineBase& pipeline) {
   const int frame = pipeline.frame();
-  if (in.frame != frame + 1)
-    throw std::invalid_argument("apply: input.frame = " + std::to_string(in.frame) + " but the world is at frame " +
-                                std::to_string(frame) + ": an input of frame f is applied before the step that "
-                                "computes frame f; apply it when frame() == " + std::to_string(static_cast<long long>(in.frame) - 1));
+  input_check::frame(in.frame, frame);
   if (in.kind == InputKind::create) {
     if (scene_.bodies.size() >= kMaxSceneBodies)
       throw std::invalid_argument("create_body: the world has " + std::to_string(scene_.bodies.size()) +
