@@ -67,6 +67,49 @@ struct SolveK {
         d.imm[k * stride + base + e].a = F4{c.j_n, c.j_t.x, c.j_t.y, c.j_t.z};
       };
     };
+    // The ground manifold and SDF volume v's (eq 99), on the body's own velocity.
+    auto solve_ground = [&] {
+      auto corner_point = [&](int c, Vec3<float>& r1, Vec3<float>& r2, Vec3<float>& n, float& penetration) {
+        r2 = Vec3<float>{};
+        Vec3<float> corner;
+        penetration = ground_corner_depth(p, R, h, c, sc.ground_y, corner);
+        r1 = corner - p;
+        n = up;
+        return penetration > -tol;
+      };
+      solve_manifold<8>(self, env, corner_point, loader(0), storer(0), sc.friction, sc.gravity, sc.P, counts);
+    };
+    auto solve_volume = [&](int v) {
+      const int base = sc.ground_slots() + 9 * v;
+      auto sample = [&](int s, Vec3<float>& r1, Vec3<float>& r2, Vec3<float>& n, float& penetration) {
+        r2 = Vec3<float>{};
+        const int g = (k * sc.n_sdf + v) * 9 + s;
+        const F4 c1 = ro(d.sdf_c1 + g), c0 = ro(d.sdf_c0 + g);
+        r1 = xyz(c1) - p;
+        n = xyz(c0);
+        penetration = c0.w;
+        return c1.w != 0.0f;
+      };
+      solve_manifold<9>(self, env, sample, loader(base), storer(base), sc.friction, sc.gravity, sc.P, counts);
+    };
+    // A pair visit's result for the body (mv, mw: its velocity after it):
+    // Jacobi adds the change to dv, dw, else it is the body's velocity; the
+    // pair's counts go to the lower index (or to the only active side).
+    Vec3<float> dv{}, dw{};
+    auto take = [&](const Vec3<float>& mv, const Vec3<float>& mw, bool jacobi, bool lower, const SolveCounts& here) {
+      if (jacobi) {
+        dv += mv - v0;
+        dw += mw - w0;
+      } else {
+        self.v = mv;
+        self.w = mw;
+      }
+      if (lower || !jacobi) {
+        counts.solver_contacts += here.solver_contacts;
+        counts.normal_impulses += here.normal_impulses;
+        counts.friction_steps += here.friction_steps;
+      }
+    };
     if (sc.oriented) {
       // The oriented-box model: the ground manifold, each SDF volume's, then
       // the pairs with immovable bodies (and, Jacobi, with active ones) as
@@ -81,35 +124,8 @@ struct SolveK {
         solve();
         record_visit(st, v0s, w0s, env.v, env.w, self, env, sc.P, counts.shortened_steps - shortened0);
       };
-      auto ground = [&] {
-        auto corner_point = [&](int c, Vec3<float>& r1, Vec3<float>& r2, Vec3<float>& n, float& penetration) {
-          r2 = Vec3<float>{};
-          Vec3<float> corner;
-          penetration = ground_corner_depth(p, R, h, c, sc.ground_y, corner);
-          r1 = corner - p;
-          n = up;
-          return penetration > -tol;
-        };
-        imm_visit(0, [&] {
-          solve_manifold<8>(self, env, corner_point, loader(0), storer(0), sc.friction, sc.gravity, sc.P, counts);
-        });
-      };
-      auto volume = [&](int v) {
-        const int base = sc.ground_slots() + 9 * v;
-        auto sample = [&](int s, Vec3<float>& r1, Vec3<float>& r2, Vec3<float>& n, float& penetration) {
-          r2 = Vec3<float>{};
-          const int g = (k * sc.n_sdf + v) * 9 + s;
-          const F4 c1 = ro(d.sdf_c1 + g), c0 = ro(d.sdf_c0 + g);
-          r1 = xyz(c1) - p;
-          n = xyz(c0);
-          penetration = c0.w;
-          return c1.w != 0.0f;
-        };
-        imm_visit(sc.ground_slots() / 8 + v, [&] {
-          solve_manifold<9>(self, env, sample, loader(base), storer(base), sc.friction, sc.gravity, sc.P, counts);
-        });
-      };
-      Vec3<float> dv{}, dw{};
+      auto ground = [&] { imm_visit(0, solve_ground); };
+      auto volume = [&](int v) { imm_visit(sc.ground_slots() / 8 + v, [&] { solve_volume(v); }); };
       auto pair = [&](int t) {
         const int j = ro(d.lists.nbr + t);
         if (coloured && ro(edge_colour + t) != kNoEdge) return;  // SolveEdgeK's
@@ -144,19 +160,7 @@ struct SolveK {
         SolveCounts here;
         solve_manifold<kBoxManifoldPoints>(A, B, point, load, store, sc.friction, sc.gravity, split, sc.P, here);
         record_visit(conv, va0, wa0, vb0, wb0, A, B, sc.P, here.shortened_steps);
-        const Vec3<float> mv = pick(lower, A.v, B.v), mw = pick(lower, A.w, B.w);
-        if (jacobi) {
-          dv += mv - v0;
-          dw += mw - w0;
-        } else {
-          self.v = mv;
-          self.w = mw;
-        }
-        if (lower || !jacobi) {
-          counts.solver_contacts += here.solver_contacts;
-          counts.normal_impulses += here.normal_impulses;
-          counts.friction_steps += here.friction_steps;
-        }
+        take(pick(lower, A.v, B.v), pick(lower, A.w, B.w), jacobi, lower, here);
       };
       const int beg = d.lists.begin(k), end = d.lists.end(k);
       if (!reverse) {
@@ -175,31 +179,8 @@ struct SolveK {
       add_counter(&ctr[kCFrictionSteps], counts.friction_steps);
       return;
     }
-    if (sc.ground_on) {
-      auto corner_point = [&](int c, Vec3<float>& r1, Vec3<float>& r2, Vec3<float>& n, float& penetration) {
-        r2 = Vec3<float>{};
-        Vec3<float> corner;
-        penetration = ground_corner_depth(p, R, h, c, sc.ground_y, corner);
-        r1 = corner - p;
-        n = up;
-        return penetration > -tol;
-      };
-      solve_manifold<8>(self, env, corner_point, loader(0), storer(0), sc.friction, sc.gravity, sc.P, counts);
-    }
-    for (int v = 0; v < sc.n_sdf; ++v) {
-      const int base = sc.ground_slots() + 9 * v;
-      auto sample = [&](int s, Vec3<float>& r1, Vec3<float>& r2, Vec3<float>& n, float& penetration) {
-        r2 = Vec3<float>{};
-        const int g = (k * sc.n_sdf + v) * 9 + s;
-        const F4 c1 = ro(d.sdf_c1 + g), c0 = ro(d.sdf_c0 + g);
-        r1 = xyz(c1) - p;
-        n = xyz(c0);
-        penetration = c0.w;
-        return c1.w != 0.0f;
-      };
-      solve_manifold<9>(self, env, sample, loader(base), storer(base), sc.friction, sc.gravity, sc.P, counts);
-    }
-    Vec3<float> dv{}, dw{};
+    if (sc.ground_on) solve_ground();
+    for (int v = 0; v < sc.n_sdf; ++v) solve_volume(v);
     const int beg = d.lists.begin(k), end = d.lists.end(k);
     for (int t = beg; t < end; ++t) {
       const int j = ro(d.lists.nbr + t);
@@ -226,19 +207,7 @@ struct SolveK {
       BodyView<float> A = pick(lower, me, other), B = pick(lower, other, me);
       SolveCounts here;
       solve_contact(A, r1, B, r2, pc.n, pc.penetration, c, sc.friction, sc.gravity, split, sc.P, here);
-      const Vec3<float> mv = pick(lower, A.v, B.v), mw = pick(lower, A.w, B.w);
-      if (jacobi) {
-        dv += mv - v0;
-        dw += mw - w0;
-      } else {
-        self.v = mv;
-        self.w = mw;
-      }
-      if (lower || !jacobi) {
-        counts.solver_contacts += here.solver_contacts;
-        counts.normal_impulses += here.normal_impulses;
-        counts.friction_steps += here.friction_steps;
-      }
+      take(pick(lower, A.v, B.v), pick(lower, A.w, B.w), jacobi, lower, here);
       d.pair[t].a = F4{c.j_n, c.j_t.x, c.j_t.y, c.j_t.z};
     }
     vout[i] = f4(self.v + dv, 0.0f);
