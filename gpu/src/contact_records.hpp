@@ -26,6 +26,11 @@ struct alignas(32) ContactRecord {
   F4 a, b;
 };
 
+// Whether a contact bounces: its e_eff (eq 76, the y of its record's b) is
+// above 0; its rebound separates it, and the position correction (eqs 89,
+// 110, 111) leaves it alone.
+LS_HD inline bool bounces(const F4& state_b) { return state_b.y > 0.0f; }
+
 LS_HD inline ContactState<float> load_state(const F4& a, const F4& b) {
   ContactState<float> c;
   c.j_n = a.x;

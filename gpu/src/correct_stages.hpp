@@ -75,7 +75,7 @@ struct CorrectIntegrateK {
       const bool lower = i < j;
       const PairContact<float> c = canonical_pair(sc, i, p0, a, j, xyz(pj4), xyz(ro(b.aabb + j)));
       const float inv_a = lower ? inv_self : inv_j, inv_b = lower ? inv_j : inv_self;
-      if (ro(&pair[t].b).y > 0.0f || (inv_a == 0.0f && inv_b == 0.0f)) continue;
+      if (bounces(ro(&pair[t].b)) || (inv_a == 0.0f && inv_b == 0.0f)) continue;
       if (lower) baumgarte_correction(p, dummy, c.n, c.penetration, inv_a, inv_b, slop, percent);
       else baumgarte_correction(dummy, p, c.n, c.penetration, inv_a, inv_b, slop, percent);
       if (lower || !j_awake) ++corrections;
@@ -88,10 +88,10 @@ struct CorrectIntegrateK {
         depth = ground_corner_depth(p0, R, h, c, sc.ground_y, corner);
         return depth > -tol;
       };
-      auto bounces = [&](int c) { return ro(&imm[k * sc.imm_stride() + c].b).y > 0.0f; };
+      auto corner_bounces = [&](int c) { return bounces(ro(&imm[k * sc.imm_stride() + c].b)); };
       float deepest_depth = 0.0f;
-      const int deepest = ground_correction_point(8, corner_depth, bounces, deepest_depth);  // eq 89's tie rule
-      if (deepest >= 0 && !bounces(deepest) && inv_self != 0.0f) {
+      const int deepest = ground_correction_point(8, corner_depth, corner_bounces, deepest_depth);  // eq 89's tie rule
+      if (deepest >= 0 && !corner_bounces(deepest) && inv_self != 0.0f) {
         const Vec3<float> up{0.0f, Num<float>::from_int(1), 0.0f};
         baumgarte_correction(p, dummy, up, deepest_depth - dot(p - p0, up), inv_self, 0.0f, slop, percent);
         ++corrections;
@@ -104,7 +104,7 @@ struct CorrectIntegrateK {
         if (sdf_c1[g].w == 0.0f) continue;
         if (deepest < 0 || sdf_c0[g].w > sdf_c0[deepest].w) { deepest = g; deepest_s = s; }
       }
-      if (deepest < 0 || imm[k * sc.imm_stride() + sc.ground_slots() + 9 * v + deepest_s].b.y > 0.0f ||
+      if (deepest < 0 || bounces(imm[k * sc.imm_stride() + sc.ground_slots() + 9 * v + deepest_s].b) ||
           inv_self == 0.0f)
         continue;
       const F4 c0 = sdf_c0[deepest];

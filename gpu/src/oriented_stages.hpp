@@ -195,7 +195,7 @@ struct PairCorrectK {
       before_out[t] = mine;
       if (!same_bits(mine, ro(before_in + t))) ++differ;
       const PairManifold& rec = man[t];
-      if (ro(&rec.st[ro(&rec.deepest)].b).y > 0.0f) return;  // bouncing (eq 76): its rebound separates it
+      if (bounces(ro(&rec.st[ro(&rec.deepest)].b))) return;  // bouncing (eq 76): its rebound separates it
       const F4 pj4 = ro(b.pos + j);
       const bool j_awake = is_awake(ro(b.flags + j));
       const bool lower = i < j;
@@ -277,7 +277,7 @@ struct PairTurnK {
       const Vec3<float> pa0 = lower ? p0 : pj0, pb0 = lower ? pj0 : p0;
       const int count = ro(&rec.count);
       for (int c = 0; c < count; ++c) {
-        if (ro(&rec.st[c].b).y > 0.0f) continue;  // a bouncing point separates by its rebound (eq 89)
+        if (bounces(ro(&rec.st[c].b))) continue;  // a bouncing point separates by its rebound (eq 89)
         const F4 pt = ro(&rec.pt[c]);
         correct_manifold_point(A, xyz(pt) - pa0, B, xyz(pt) - pb0, n, pt.w, sc.P.slop, sc.P.baumgarte);  // eq 111
       }
@@ -320,7 +320,7 @@ struct IntegrateK {
     if (man != nullptr) {
       for (int t = lists.begin(k); t < lists.end(k); ++t) {
         const PairManifold& rec = man[t];
-        if (ro(&rec.count) == 0 || ro(&rec.st[ro(&rec.deepest)].b).y > 0.0f) continue;
+        if (ro(&rec.count) == 0 || bounces(ro(&rec.st[ro(&rec.deepest)].b))) continue;
         const int j = ro(lists.nbr + t);
         const bool j_awake = is_awake(ro(b.flags + j));
         if ((i < j || !j_awake) && (inv_mass_of(pi4) != 0.0f || (j_awake && inv_mass_of(ro(b.pos + j)) != 0.0f))) ++corrections;
