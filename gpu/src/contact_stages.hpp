@@ -355,4 +355,33 @@ struct ContactsK {
   }
 };
 
+// ---------------------------------------------------------------------------
+// Eq 112's chain (stage 3, after ContactsK), one sweep over the active
+// bodies: body i is over its support when ContactsK found it so (`over0`)
+// and its first support is not an awake body that settles before it
+// (settles_before) and tips (the previous sweep's `in`; the first sweep
+// reads over0). World<T> decides it in one pass in stage 6's order; each
+// body here reads only bodies before it in that order, so the sweeps reach
+// World<T>'s result.
+struct TipChainK {
+  const int* list;
+  BodyArrays b;
+  const int* support_idx;
+  const int* over0;
+  const int* in;
+  int* out;
+  int* changed;  // bodies whose result differs from `in`
+  LS_HD void operator()(int k) const {
+    const int i = ro(list + k);
+    int over = ro(over0 + i);
+    const int s = ro(support_idx + i);
+    if (over != 0 && s >= 0 && is_awake(ro(b.flags + s))) {
+      const bool before = settles_before(ro(b.pos + s).y, s, ro(b.pos + i).y, i);
+      over = over_with_support(true, before, ro(in + s) != 0) ? 1 : 0;
+    }
+    out[i] = over;
+    if (changed != nullptr) add_to(changed, over != ro(in + i) ? 1 : 0);
+  }
+};
+
 }  // namespace lockstep::gpu

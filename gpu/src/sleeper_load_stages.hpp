@@ -7,7 +7,10 @@
 // settle before their children: no cycle). A parent whose load's centre is
 // not over the support points it recorded wakes at the end of stage 9.
 #pragma once
-#include "oriented_stages.hpp"
+#include "kernel_support.hpp"
+#include "lockstep/gpu/elements.hpp"
+#include "lockstep/gpu/soa.hpp"
+#include "sleep_stages.hpp"
 
 namespace lockstep::gpu {
 

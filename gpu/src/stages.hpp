@@ -11,15 +11,18 @@
 //   grid.hpp, grid_stages.hpp    the uniform grids and the kernels that build them
 //   integrate_stages.hpp         stage 1 (IntegrateVelocityK)
 //   gather_stages.hpp            stages 2-4: neighbour lists and eq 81's wake (GatherK)
-//   contact_stages.hpp           stages 3, 5: contacts, supports, preparation (ContactsK)
+//   contact_stages.hpp           stages 3, 5: contacts, supports, preparation (ContactsK);
+//                                eq 112's chain (TipChainK)
 //   solve_stages.hpp             stage 5: the solver's iterations (SolveK, SolveEdgeK)
 //   settle_stages.hpp            stage 6: settling sweeps (SettleK)
 //   correct_stages.hpp           stages 6-8: correction and integration (CorrectIntegrateK)
+//   pair_correct_stages.hpp      stages 7-8, oriented-box model: eqs 110-111, integration
 //   commit_stages.hpp            stages 8-9: commit and sleep (CommitSleepK)
+//   sleep_stages.hpp             stages 2a and 9, oriented-box model: eqs 108-109
+//   load_stages.hpp, sleeper_load_stages.hpp   eqs 117 and 124
 // with what they share in scene_consts.hpp, contact_records.hpp, solver_data.hpp
-// and kernel_support.hpp; the oriented-box model's sequential orders are in
-// oriented_stages.hpp, eqs 117 and 124 in load_stages.hpp and
-// sleeper_load_stages.hpp. This header gathers the per-stage ones.
+// and kernel_support.hpp; oriented_stages.hpp says how the oriented-box
+// model's sequential orders become sweeps. This header gathers the stages.
 #pragma once
 #include "commit_stages.hpp"
 #include "contact_stages.hpp"
@@ -27,5 +30,6 @@
 #include "gather_stages.hpp"
 #include "grid_stages.hpp"
 #include "integrate_stages.hpp"
+#include "oriented_stages.hpp"
 #include "settle_stages.hpp"
 #include "solve_stages.hpp"
