@@ -9,7 +9,6 @@
 #include <string>
 
 #include "lockstep/scene_json.hpp"
-#include "lockstep/scene_limits.hpp"
 
 namespace lockstep {
 
@@ -166,18 +165,6 @@ void finish(std::vector<std::uint8_t>& out) {
   const std::uint64_t sum = checksum(out.data(), out.size());
   Writer w(out);
   w.u64(sum);
-}
-
-Scene read_checked_scene(Reader& r, const SnapshotInfo& info, const char* number_type, const char* engine) {
-  Scene scene = read_scene_section(r, info.body_count);
-  if (constants_hash(scene.constants) != info.constants_hash)
-    throw SnapshotError("corrupt: the constants do not match the header's constants hash", "header.constants_hash");
-  try {
-    validate_scene_for(number_type, scene);
-  } catch (const SceneError& e) {
-    throw SnapshotError(std::string("the scene section cannot run on ") + engine + ": " + e.what(), "scene." + e.field);
-  }
-  return scene;
 }
 
 }  // namespace snap
