@@ -51,12 +51,8 @@ struct CorrectIntegrateK {
         // not awake, the ground, an SDF volume).
         const int s = ro(sweep.support_idx + i);
         const bool movable = sc.oriented && s >= 0 && is_awake(ro(b.flags + s));
-        if (movable)  // eqs 72-74 relative to the support's spin as the solver left it
-          wf = settle_angular_velocity_on(wf, xyz(ro(wpost + s)), rotation_matrix(q0), xyz(ro(sweep.support_n + i)),
-                                          speed, sweep.leans(i), sc.P);
-        else
-          wf = settle_angular_velocity(wf, rotation_matrix(q0), xyz(ro(sweep.support_n + i)), speed, true,
-                                       sweep.leans(i), sc.P);
+        wf = settle_spin(wf, movable, [&] { return xyz(ro(wpost + s)); }, rotation_matrix(q0),
+                         xyz(ro(sweep.support_n + i)), speed, sweep.leans(i), sc.P);  // eqs 64-74, 115
         add_counter(&ctr[kCSettlingBodies], 1u);
       }
     }

@@ -75,6 +75,17 @@ LS_HD Vec3<T> settle_angular_velocity_on(const Vec3<T>& w, const Vec3<T>& w_supp
   return w_support + regime_damping(w1 - w_support, al.alignment, P);  // eqs 72-74, relative
 }
 
+// eqs 64-74, 115 (stage 6): a settling body's spin, relative to its support's
+// (w_support(), as the solver left it) when that support is movable (the
+// oriented-box model with an awake support body), else on its own
+// (settle_angular_velocity, damped as on an immovable support).
+template <class T, class SupportSpin>
+LS_HD Vec3<T> settle_spin(const Vec3<T>& w, bool movable_support, SupportSpin&& w_support, const Mat3<T>& R,
+                          const Vec3<T>& n, const T& speed, bool leaning, const Params<T>& P) {
+  if (movable_support) return settle_angular_velocity_on(w, w_support(), R, n, speed, leaning, P);
+  return settle_angular_velocity(w, R, n, speed, true, leaning, P);
+}
+
 // Stage 8 (eqs 2, 7-10) for one awake body.
 template <class T>
 LS_HD void integrate_pose(Vec3<T>& p, Quat<T>& q, const Vec3<T>& v, const Vec3<T>& w, const Params<T>& P) {
