@@ -8,10 +8,10 @@
 #include "lockstep/scene_json.hpp"
 #include "lockstep/physics/aabb.hpp"
 #include "lockstep/physics/integrate.hpp"
+#include "lockstep/physics/sleep.hpp"
 
 namespace lockstep::gpu {
 namespace {
-constexpr int kRests = 4;  // eq 108's records per body (oriented_stages.hpp kMaxRests)
 
 Vec3<float> to_vec(const Vec3d& v) {
   return {Num<float>::from_double(v.x), Num<float>::from_double(v.y), Num<float>::from_double(v.z)};
@@ -34,7 +34,7 @@ void GpuInputs::begin(PipelineBase& pipeline) {
   inert_ = s.inert;
   if (edit_.rest_count.empty()) {  // the AABB model keeps no records
     edit_.rest_count.assign(edit_.pos.size(), 0);
-    edit_.rest_body.assign(kRests * edit_.pos.size(), -1);
+    edit_.rest_body.assign(kMaxRests * edit_.pos.size(), -1);
   }
   copy_frame_ = pipeline.frame();
 }
@@ -51,7 +51,7 @@ void GpuInputs::wake_resting_on(std::size_t i) {
   for (std::size_t j = 0; j < edit_.flags.size(); ++j) {
     if ((edit_.flags[j] & kFlagAsleep) == 0) continue;
     bool on_i = false;
-    for (int r = 0; r < edit_.rest_count[j]; ++r) on_i = on_i || edit_.rest_body[kRests * j + static_cast<std::size_t>(r)] == static_cast<int>(i);
+    for (int r = 0; r < edit_.rest_count[j]; ++r) on_i = on_i || edit_.rest_body[kMaxRests * j + static_cast<std::size_t>(r)] == static_cast<int>(i);
     if (on_i) wake(j);
   }
 }
@@ -65,7 +65,7 @@ void GpuInputs::erase(std::size_t k) {
   for (auto* v : {&edit_.pos, &edit_.rot, &edit_.vel, &edit_.ang, &half_, &inert_}) v->erase(v->begin() + at);
   edit_.flags.erase(edit_.flags.begin() + at);
   for (auto* v : {&edit_.sleep_frame, &edit_.sleep_counter, &edit_.rest_count}) v->erase(v->begin() + at);
-  edit_.rest_body.erase(edit_.rest_body.begin() + kRests * at, edit_.rest_body.begin() + kRests * (at + 1));
+  edit_.rest_body.erase(edit_.rest_body.begin() + kMaxRests * at, edit_.rest_body.begin() + kMaxRests * (at + 1));
   for (int& b : edit_.rest_body)
     if (b > static_cast<int>(k)) --b;
   scene_.bodies.erase(scene_.bodies.begin() + at);
@@ -77,10 +77,7 @@ void GpuInputs::erase(std::size_t k) {
 
 BodyId GpuInputs::apply(const Input& in, PipelineBase& pipeline) {
   const int frame = pipeline.frame();
-  if (in.frame != frame + 1)
-    throw std::invalid_argument("apply: input.frame = " + std::to_string(in.frame) + " but the world is at frame " +
-                                std::to_string(frame) + ": an input of frame f is applied before the step that "
-                                "computes frame f; apply it when frame() == " + std::to_string(static_cast<long long>(in.frame) - 1));
+  input_check::frame(in.frame, frame);
   if (in.kind == InputKind::create) {
     if (scene_.bodies.size() >= kMaxSceneBodies)
       throw std::invalid_argument("create_body: the world has " + std::to_string(scene_.bodies.size()) +
@@ -98,7 +95,7 @@ BodyId GpuInputs::apply(const Input& in, PipelineBase& pipeline) {
     edit_.sleep_frame.push_back(-1);
     edit_.sleep_counter.push_back(0);
     edit_.rest_count.push_back(0);
-    for (int r = 0; r < kRests; ++r) edit_.rest_body.push_back(-1);
+    for (int r = 0; r < kMaxRests; ++r) edit_.rest_body.push_back(-1);
     scene_.bodies.push_back(in.body);
     dirty_ = true;
     return ids_.add();

@@ -96,7 +96,7 @@ void write_gpu_state(std::vector<std::uint8_t>& out, const GpuState& s, std::uin
       const int rests = s.rest_count[i];
       w.u8(static_cast<std::uint8_t>(rests));
       for (int k = 0; k < rests; ++k) {
-        const std::size_t e = i * kSnapshotRests + static_cast<std::size_t>(k);
+        const std::size_t e = i * kMaxRests + static_cast<std::size_t>(k);
         w.varint(static_cast<std::uint64_t>(s.rest_body[e]));
         f4(w, s.rest_local[e]);
         f4(w, s.rest_point[e]);
@@ -172,8 +172,8 @@ GpuState read_gpu_state(const std::uint8_t* data, std::size_t size, const Initia
   s.pos.resize(n); s.rot.resize(n); s.vel.resize(n); s.ang.resize(n); s.aabb.resize(n);
   s.flags.resize(n); s.sleep_counter.resize(n); s.sleep_frame.resize(n);
   if (oriented) {
-    s.grow.resize(n); s.rest_count.assign(n, 0); s.rest_body.assign(kSnapshotRests * n, 0);
-    s.rest_local.assign(kSnapshotRests * n, F4{}); s.rest_point.assign(kSnapshotRests * n, F4{}); s.rest_last.assign(kSnapshotRests * n, F4{});
+    s.grow.resize(n); s.rest_count.assign(n, 0); s.rest_body.assign(kMaxRests * n, 0);
+    s.rest_local.assign(kMaxRests * n, F4{}); s.rest_point.assign(kMaxRests * n, F4{}); s.rest_last.assign(kMaxRests * n, F4{});
     if (init.fx.sleep) {  // eq 124's records
       s.sleep_parent.assign(n, kLoadNone);
       s.sleep_count.assign(n, 0);
@@ -210,11 +210,11 @@ GpuState read_gpu_state(const std::uint8_t* data, std::size_t size, const Initia
       s.grow[i] = in.bounded(b + ".grow", kMaxCoordinate);
       if (s.grow[i] < 0) refuse(b + ".grow", "negative");
       const int rests = in.r.u8("bodies.rests");
-      if (rests > kSnapshotRests || ((flags & kFlagStatic) && rests > 0))
-        refuse(b + ".rests", std::to_string(rests) + " records (at most " + std::to_string(kSnapshotRests) + ", none for a static body)");
+      if (rests > kMaxRests || ((flags & kFlagStatic) && rests > 0))
+        refuse(b + ".rests", std::to_string(rests) + " records (at most " + std::to_string(kMaxRests) + ", none for a static body)");
       s.rest_count[i] = rests;
       for (int k = 0; k < rests; ++k) {
-        const std::size_t e = i * kSnapshotRests + static_cast<std::size_t>(k);
+        const std::size_t e = i * kMaxRests + static_cast<std::size_t>(k);
         const std::string f = b + ".rests[" + std::to_string(k) + "]";
         s.rest_body[e] = in.index(f + ".body", n);
         if (static_cast<std::size_t>(s.rest_body[e]) == i || (init.flags[static_cast<std::size_t>(s.rest_body[e])] & kFlagStatic))

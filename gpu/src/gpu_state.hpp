@@ -12,7 +12,6 @@
 
 namespace lockstep::gpu {
 
-inline constexpr int kSnapshotRests = 4;         // eq 108's records per body (oriented_stages.hpp kMaxRests)
 inline constexpr int kSnapshotManifoldPoints = 4;  // a pair's points (kBoxManifoldPoints)
 
 struct GpuState {
@@ -24,7 +23,7 @@ struct GpuState {
   std::vector<int> sleep_counter, sleep_frame;
   std::vector<float> grow;                   // oriented-box model: eqs 97, 107
   std::vector<int> rest_count;               // oriented-box model: eq 108's records
-  std::vector<int> rest_body;                // kSnapshotRests per body
+  std::vector<int> rest_body;                // kMaxRests per body
   std::vector<F4> rest_local, rest_point, rest_last;
   // oriented-box model with the sleep effect: eq 124's records (read while a
   // body sleeps): its load parent, its support points' count and lever arms

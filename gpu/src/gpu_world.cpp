@@ -234,14 +234,7 @@ std::unique_ptr<GpuWorld> GpuWorld::load_state(const std::uint8_t* data, std::si
   const SnapshotInfo info = read_snapshot_info(data, size);
   if (info.number != SnapshotNumber::kGpu) foreign(info.number);
   snap::Reader r(data + kSnapshotHeaderSize, size - kSnapshotHeaderSize - kSnapshotChecksumSize);
-  Scene scene = snap::read_scene_section(r, info.body_count);
-  if (snap::constants_hash(scene.constants) != info.constants_hash)
-    throw SnapshotError("corrupt: the constants do not match the header's constants hash", "header.constants_hash");
-  try {
-    validate_scene_for("float", scene);
-  } catch (const SceneError& e) {
-    throw SnapshotError(std::string("the scene section cannot run on the gpu engine: ") + e.what(), "scene." + e.field);
-  }
+  Scene scene = snap::read_checked_scene(r, info, "float", "the gpu engine");
   const InitialState shape = make_initial_state(scene);
   std::uint8_t opts = 0;
   const GpuState st = read_gpu_state(data + kSnapshotHeaderSize + r.pos(), r.left(), shape, imm_stride_of(shape),

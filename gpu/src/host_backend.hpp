@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "lockstep/gpu/gpu_engine.hpp"
-#include "stages.hpp"
+#include "grid.hpp"
 
 namespace lockstep::gpu {
 

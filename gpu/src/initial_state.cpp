@@ -65,11 +65,7 @@ InitialState make_initial_state(const Scene& scene) {
       g.min = to_vec(d.min);
       g.max = to_vec(d.max);
       g.n[0] = d.nx; g.n[1] = d.ny; g.n[2] = d.nz;
-      for (int a = 0; a < 3; ++a) {
-        const float cells = Num<float>::from_int(g.n[a] - 1);
-        g.inv_spacing[a] = cells / (g.max[a] - g.min[a]);  // eq 32
-        g.spacing[a] = (g.max[a] - g.min[a]) / cells;
-      }
+      set_grid_spacing(g);  // eq 32
       s.sdf_offsets.push_back(s.sdf_values.size());
       for (double v : d.values) s.sdf_values.push_back(n(v));
       s.sdf_grids.push_back(g);

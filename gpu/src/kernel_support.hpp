@@ -1,6 +1,7 @@
 // Host/device primitives of the GPU engine's kernels (stages.hpp,
 // colouring.hpp): integer counters and atomics whose order cannot change a
-// result, read-only loads, and the neighbour lists.
+// result, read-only loads, the neighbour lists, bit equality, and the small
+// kernels of the pipeline's bookkeeping.
 #pragma once
 #include <cstdint>
 
@@ -143,6 +144,50 @@ struct NeighbourLists {
       else hi = mid;
     }
     return lo < last && ro(nbr + lo) == body ? lo : -1;
+  }
+};
+
+// ---------------------------------------------------------------------------
+// Bit equality of two floats (NaN included): the fixed-point sweeps stop
+// when a sweep reproduces its input exactly.
+LS_HD inline bool same_bits(float x, float y) {
+#if defined(__CUDA_ARCH__)
+  return __float_as_uint(x) == __float_as_uint(y);
+#else
+  unsigned ux, uy;
+  __builtin_memcpy(&ux, &x, sizeof ux);
+  __builtin_memcpy(&uy, &y, sizeof uy);
+  return ux == uy;
+#endif
+}
+LS_HD inline bool same_bits(const F4& a, const F4& b) {
+  return same_bits(a.x, b.x) && same_bits(a.y, b.y) && same_bits(a.z, b.z) && same_bits(a.w, b.w);
+}
+
+// ---------------------------------------------------------------------------
+// Small kernels of the pipeline's bookkeeping.
+
+struct SetIntK {
+  int* target;
+  int value;
+  LS_HD void operator()(int) const { *target = value; }
+};
+
+// dst[k] = src[k].
+struct CopyIntsK {
+  const int* src;
+  int* dst;
+  LS_HD void operator()(int k) const { dst[k] = src[k]; }
+};
+
+// Stream compaction: out[scan[k]] = in[k] where keep[k].
+struct ScatterK {
+  const int* in;
+  const int* keep;
+  const int* scan;
+  int* out;
+  LS_HD void operator()(int k) const {
+    if (keep[k] != 0) out[scan[k]] = in[k];
   }
 };
 

@@ -7,7 +7,11 @@
 // parents settle before their children, so the chains are acyclic and the
 // fixed point, reached after the longest chain plus one sweep, is World<T>'s.
 #pragma once
-#include "stages.hpp"
+#include "kernel_support.hpp"
+#include "lockstep/gpu/elements.hpp"
+#include "lockstep/gpu/soa.hpp"
+#include "scene_consts.hpp"
+#include "solver_data.hpp"
 
 namespace lockstep::gpu {
 
@@ -25,21 +29,18 @@ struct LoadK {
   LS_HD void operator()(int k) const {
     const int i = ro(list + k);
     const F4 pi4 = ro(b.pos + i);
-    const Vec3<float> p = xyz(pi4);
-    const float cap = Num<float>::from_double(kLoadMassCap);
-    float mass = Num<float>::from_int(1) / pi4.w;
     const int beg = lists.begin(k), end = lists.end(k);
-    for (int t = beg; t < end; ++t) {
-      const int j = ro(lists.nbr + t);
-      if (is_awake(ro(b.flags + j)) && ro(load_parent + j) == i) mass = load_mass_add(mass, ro(in + j).w, cap);
-    }
-    Vec3<float> offset{};
-    for (int t = beg; t < end; ++t) {
-      const int j = ro(lists.nbr + t);
-      if (!is_awake(ro(b.flags + j)) || ro(load_parent + j) != i) continue;
-      const F4 lj = ro(in + j);
-      offset = load_offset_add(offset, lj.w, mass, xyz(ro(b.pos + j)), xyz(lj), p);
-    }
+    auto each_child = [&](auto&& f) {  // its load children, ascending index (the neighbour list's order)
+      for (int t = beg; t < end; ++t) {
+        const int j = ro(lists.nbr + t);
+        if (!is_awake(ro(b.flags + j)) || ro(load_parent + j) != i) continue;
+        const F4 lj = ro(in + j);
+        f(lj.w, xyz(ro(b.pos + j)), xyz(lj));
+      }
+    };
+    float mass;
+    Vec3<float> offset;
+    sum_load(inv_mass_of(pi4), xyz(pi4), each_child, mass, offset);  // eq 117
     const F4 result = f4(offset, mass);
     out[i] = result;
     if (changed != nullptr) {

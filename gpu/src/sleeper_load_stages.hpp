@@ -7,7 +7,10 @@
 // settle before their children: no cycle). A parent whose load's centre is
 // not over the support points it recorded wakes at the end of stage 9.
 #pragma once
-#include "oriented_stages.hpp"
+#include "kernel_support.hpp"
+#include "lockstep/gpu/elements.hpp"
+#include "lockstep/gpu/soa.hpp"
+#include "sleep_stages.hpp"
 
 namespace lockstep::gpu {
 
@@ -97,21 +100,22 @@ struct SleeperLoadK {
   LS_HD F4 load_of(int c) const {
     if (is_awake(ro(b.flags + c))) return ro(awake + c);
     if (ro(begin + c) >= 0) return ro(in + c);
-    return F4{0.0f, 0.0f, 0.0f, Num<float>::from_int(1) / ro(b.pos + c).w};
+    return F4{0.0f, 0.0f, 0.0f, Num<float>::from_int(1) / inv_mass_of(ro(b.pos + c))};
   }
   LS_HD void operator()(int h) const {
     const int s = ro(heads + h);
     const F4 ps = ro(b.pos + s);
-    const float cap = Num<float>::from_double(kLoadMassCap);
-    float mass = Num<float>::from_int(1) / ps.w;
     const int beg = ro(begin + s), stop = ro(end + s);
-    for (int t = beg; t < stop; ++t) mass = load_mass_add(mass, load_of(ro(child + t)).w, cap);
-    Vec3<float> offset{};
-    for (int t = beg; t < stop; ++t) {
-      const int c = ro(child + t);
-      const F4 lc = load_of(c);
-      offset = load_offset_add(offset, lc.w, mass, xyz(ro(b.pos + c)), xyz(lc), xyz(ps));
-    }
+    auto each_child = [&](auto&& f) {  // ascending index
+      for (int t = beg; t < stop; ++t) {
+        const int c = ro(child + t);
+        const F4 lc = load_of(c);
+        f(lc.w, xyz(ro(b.pos + c)), xyz(lc));
+      }
+    };
+    float mass;
+    Vec3<float> offset;
+    sum_load(inv_mass_of(ps), xyz(ps), each_child, mass, offset);  // eq 117's sums
     const F4 result = f4(offset, mass);
     out[s] = result;
     if (changed != nullptr) {

@@ -315,12 +315,17 @@ void World<T>::correct_positions() {
   // mirror image permutes; this keeps the choice sign-symmetric).
   auto tied_point_rests = [&](const Contact<T>& c) {
     if (c.b != -1) return false;
-    const std::size_t at = static_cast<std::size_t>(&c - contacts_.data());
-    for (std::size_t k = at; k-- > 0 && contacts_[k].a == c.a && contacts_[k].b == -1;)
-      if (contacts_[k].penetration == c.penetration && !(contacts_[k].state.e > T{})) return true;
-    for (std::size_t k = at + 1; k < contacts_.size() && contacts_[k].a == c.a && contacts_[k].b == -1; ++k)
-      if (contacts_[k].penetration == c.penetration && !(contacts_[k].state.e > T{})) return true;
-    return false;
+    std::size_t lo = static_cast<std::size_t>(&c - contacts_.data()), hi = lo + 1;
+    while (lo > 0 && contacts_[lo - 1].a == c.a && contacts_[lo - 1].b == -1) --lo;
+    while (hi < contacts_.size() && contacts_[hi].a == c.a && contacts_[hi].b == -1) ++hi;
+    auto bounces = [&](int m) { return contacts_[lo + static_cast<std::size_t>(m)].state.e > T{}; };
+    auto point = [&](int m, T& depth) {
+      depth = contacts_[lo + static_cast<std::size_t>(m)].penetration;
+      return true;
+    };
+    T depth{};
+    const int k = ground_correction_point(static_cast<int>(hi - lo), point, bounces, depth);  // eq 89
+    return k >= 0 && !bounces(k);
   };
   auto correct = [&](const Contact<T>& c, bool lower_fixed) {
     if (!c.corrects || (c.state.e > T{} && !tied_point_rests(c))) return;
@@ -380,12 +385,11 @@ void World<T>::correct_positions() {
     return Num<T>::min(ya, yb);
   };
   std::sort(order_.begin(), order_.end(), [&](int x, int y) {
-    const T yx = lower_y(x), yy = lower_y(y);
-    return yx != yy ? yx < yy : x < y;
+    return settles_before(lower_y(x), x, lower_y(y), y);
   });
   for (int ci : order_) {
     const Contact<T>& c = contacts_[static_cast<std::size_t>(ci)];
-    correct(c, Num<T>::abs(c.n.y) >= P_.support_normal_min);
+    correct(c, is_support_pair(c.n, P_.support_normal_min));
   }
   // eq 111: then every point of each pair, in the same order, pushed out of
   // what it still penetrates by turning as well as moving its sides.
@@ -399,11 +403,7 @@ void World<T>::correct_positions() {
     BodyView<T> va{A.p - corrected_from_[ia], turn_[ia], A.awake() ? A.inv_mass : T{}, A.R, A.awake() ? A.inv_inertia : Vec3<T>{}};
     BodyView<T> vb{B.p - corrected_from_[ib], turn_[ib], B.awake() ? B.inv_mass : T{}, B.R, B.awake() ? B.inv_inertia : Vec3<T>{}};
     if (va.inv_mass == T{} && vb.inv_mass == T{}) continue;
-    if (Num<T>::abs(c.n.y) >= P_.support_normal_min) {  // eq 110: only the upper side moves, if it can
-      BodyView<T>& upper = c.n.y > T{} ? va : vb;
-      BodyView<T>& lower = c.n.y > T{} ? vb : va;
-      if (upper.inv_mass > T{}) lower.inv_mass = T{}, lower.inv_inertia = Vec3<T>{};
-    }
+    hold_lower_side(va, vb, c.n, P_.support_normal_min);  // eq 111: only the upper side moves, if it can
     std::size_t lo = static_cast<std::size_t>(ci), hi = lo + 1;
     while (lo > 0 && contacts_[lo - 1].a == c.a && contacts_[lo - 1].b == c.b) --lo;
     while (hi < contacts_.size() && contacts_[hi].a == c.a && contacts_[hi].b == c.b) ++hi;

@@ -51,6 +51,13 @@ void vector(const Vec3d& v, double limit, const char* unit, const std::string& w
   }
 }
 
+void frame(int input_frame, int world_frame) {
+  if (input_frame != world_frame + 1)
+    throw std::invalid_argument("apply: input.frame = " + std::to_string(input_frame) + " but the world is at frame " +
+                                std::to_string(world_frame) + ": an input of frame f is applied before the step that "
+                                "computes frame f; apply it when frame() == " + std::to_string(static_cast<long long>(input_frame) - 1));
+}
+
 std::string id_text(std::uint32_t slot, std::uint32_t generation) {
   return "slot " + std::to_string(slot) + ", generation " + std::to_string(generation);
 }

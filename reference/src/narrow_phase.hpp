@@ -52,7 +52,6 @@ void World<T>::narrow_phase() {
       // only the deepest point (first on ties) carries the pair's position
       // correction (eq 89), as on the ground
       const BoxManifold<T>& m = pair_manifolds_[pk];
-      int deepest = -1;
       const auto first = pair_contacts.size();
       for (int k = 0; k < m.count; ++k) {
         Contact<T> c;
@@ -63,17 +62,12 @@ void World<T>::narrow_phase() {
         c.point = m.point[k];
         c.feature = m.feature[k];
         c.corrects = false;
-        if (deepest < 0 || c.penetration > m.penetration[deepest]) deepest = k;
         pair_contacts.push_back(c);
         ++counters_.body_contacts;
       }
-      if (deepest >= 0) {
-        // eq 110: the pair is corrected by the mean depth of its points (a
-        // tilted box resting on one corner is not lifted by that corner).
-        T sum{};
-        for (int k = 0; k < m.count; ++k) sum += m.penetration[k];
-        Contact<T>& d = pair_contacts[first + static_cast<std::size_t>(deepest)];
-        d.correct_depth = sum / Num<T>::from_int(m.count);
+      if (m.count > 0) {  // eq 110: the pair is corrected by the mean depth of its points
+        Contact<T>& d = pair_contacts[first + static_cast<std::size_t>(deepest_point(m.penetration, m.count))];
+        d.correct_depth = mean_depth(m.penetration, m.count);
         d.corrects = true;
       }
       continue;
@@ -182,54 +176,35 @@ void World<T>::narrow_phase() {
   n_arms_.assign(bodies_.size(), 0);
   std::vector<int>& n_arms = n_arms_;
   std::vector<char> loaded(bodies_.size(), 0);
-  auto add_support = [&](int body, std::size_t ci, const Vec3<T>& n, const T& penetration) {
+  auto add_support = [&](int body, std::size_t ci, const Vec3<T>& n) {  // eqs 75, 98, 112
     const auto i = static_cast<std::size_t>(body);
-    support_n_[i] += n * support_weight(penetration, P_.support_fade);
     const Contact<T>& cc = contacts_[ci];
-    bool impact = false;  // eq 112: an impact is not a support point
-    if (!(penetration > -P_.slop)) {
+    auto v_n = [&] {
       const Body<T>& A = bodies_[static_cast<std::size_t>(cc.a)];
-      T v_n;
-      if (cc.b >= 0) {
-        const Body<T>& B = bodies_[static_cast<std::size_t>(cc.b)];
-        v_n = contact_closing_speed(A.v, A.w, A.p, B.v, B.w, B.p, cc.point, cc.n);
-      } else {
-        v_n = contact_closing_speed(A.v, A.w, A.p, cc.point, cc.n);
-      }
-      impact = support_impact(penetration, v_n, P_);
-    }
-    if (!impact) {
-      if (n_arms[i] < kMaxSupportPoints) support_arms_[i][static_cast<std::size_t>(n_arms[i])] = contacts_[ci].point - bodies_[i].p;
-      if (n_arms[i] <= kMaxSupportPoints) ++n_arms[i];  // kMaxSupportPoints + 1: too many to look at
-    }
-    if (!(penetration > -P_.slop)) return;
-    const T gap = support_gap(penetration);
-    if (support_[i] < 0) {
+      if (cc.b < 0) return contact_closing_speed(A.v, A.w, A.p, cc.point, cc.n);
+      const Body<T>& B = bodies_[static_cast<std::size_t>(cc.b)];
+      return contact_closing_speed(A.v, A.w, A.p, B.v, B.w, B.p, cc.point, cc.n);
+    };
+    if (add_support_contact(support_n_[i], support_arms_[i].data(), n_arms[i], support_gap_[i], support_[i] >= 0, n,
+                            cc.penetration, cc.point - bodies_[i].p, v_n, P_) &&
+        support_[i] < 0)
       support_[i] = static_cast<int>(ci);
-      support_gap_[i] = gap;
-    }
-    support_gap_[i] = Num<T>::min(support_gap_[i], gap);
   };
   for (std::size_t ci = 0; ci < contacts_.size(); ++ci) {
     const Contact<T>& c = contacts_[ci];
-    if (c.penetration > -P_.slop) {  // eq 112's holds; immovable: ground, SDF, static, asleep
-      const bool a_immovable = !bodies_[static_cast<std::size_t>(c.a)].awake();
-      const bool b_immovable = c.b < 0 || !bodies_[static_cast<std::size_t>(c.b)].awake();
-      if (holds_off_support(c.n, b_immovable, P_.support_normal_min)) loaded[static_cast<std::size_t>(c.a)] = 1;
-      if (c.b >= 0 && holds_off_support(-c.n, a_immovable, P_.support_normal_min)) loaded[static_cast<std::size_t>(c.b)] = 1;
-    }
-    if (!(c.penetration > -P_.support_fade)) continue;
-    if (c.n.y >= P_.support_normal_min) add_support(c.a, ci, c.n, c.penetration);
-    if (c.b >= 0 && -c.n.y >= P_.support_normal_min) add_support(c.b, ci, -c.n, c.penetration);
+    // eq 112's holds; immovable: ground, SDF, static, asleep
+    const bool a_immovable = !bodies_[static_cast<std::size_t>(c.a)].awake();
+    const bool b_immovable = c.b < 0 || !bodies_[static_cast<std::size_t>(c.b)].awake();
+    if (holds_body(c.n, c.penetration, b_immovable, P_)) loaded[static_cast<std::size_t>(c.a)] = 1;
+    if (c.b >= 0 && holds_body(-c.n, c.penetration, a_immovable, P_)) loaded[static_cast<std::size_t>(c.b)] = 1;
+    add_support(c.a, ci, c.n);
+    if (c.b >= 0) add_support(c.b, ci, -c.n);
   }
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     if (support_[i] >= 0) support_n_[i] = normalize(support_n_[i]);
-    // eq 112, seen along up; a centre on the boundary counts while the body is slow
-    const bool over_contacts =
-        support_[i] < 0 || over_support(support_arms_[i].data(), n_arms[i], Vec3<T>{T{}, Num<T>::from_int(1), T{}},
-                                        length(bodies_[i].w) < P_.sleep_angular);
-    over_support_[i] = loaded[i] != 0 || over_contacts;
-    leaning_[i] = oriented && leans(support_[i] >= 0, loaded[i] != 0, over_contacts) ? 1 : 0;  // eq 115
+    const Stance st = stance_of(support_arms_[i].data(), n_arms[i], support_[i] >= 0, loaded[i] != 0, bodies_[i].w, P_);
+    over_support_[i] = st.over;              // eq 112
+    leaning_[i] = oriented && st.leans ? 1 : 0;  // eq 115
   }
   // Stage 6's order (settle() walks it): the supported awake bodies, lowest
   // first (ties: index). Nothing before stage 6 moves or wakes a body.
@@ -251,9 +226,9 @@ void World<T>::narrow_phase() {
     const auto i = static_cast<std::size_t>(idx);
     const Contact<T>& c = contacts_[static_cast<std::size_t>(support_[i])];
     const T mu = scene_.effects.friction ? combined_friction(material_mu(c.a), material_mu(c.b)) : T{};
-    const bool holds = loaded[i] != 0 || friction_holds(g, support_n_[i], mu);
-    can_rest_[i] = holds ? 1 : 0;
-    settle_limit_[i] = settle_limit(holds, oriented && loaded[i] == 0, g, support_n_[i], mu, P_);
+    const Footing<T> f = footing_of(loaded[i] != 0, oriented, g, support_n_[i], mu, P_);
+    can_rest_[i] = f.can_rest ? 1 : 0;
+    settle_limit_[i] = f.limit;
   }
   if (!oriented) return;
   // eq 117: load parents (the one dynamic body below that every support
@@ -332,19 +307,16 @@ template <class T>
 auto World<T>::form_load(int idx, const LoadChildren& children)
     -> std::pair<LoadChildren::const_iterator, LoadChildren::const_iterator> {
   const auto i = static_cast<std::size_t>(idx);
-  const T cap = Num<T>::from_double(kLoadMassCap);
   const auto first = std::lower_bound(children.begin(), children.end(), std::pair<int, int>{idx, -1});
   auto last = first;
-  T mass = Num<T>::from_int(1) / bodies_[i].inv_mass;
-  for (; last != children.end() && last->first == idx; ++last)
-    mass = load_mass_add(mass, load_mass_[static_cast<std::size_t>(last->second)], cap);
-  Vec3<T> offset{};
-  for (auto c = first; c != last; ++c) {
-    const auto j = static_cast<std::size_t>(c->second);
-    offset = load_offset_add(offset, load_mass_[j], mass, bodies_[j].p, load_offset_[j], bodies_[i].p);
-  }
-  load_mass_[i] = mass;
-  load_offset_[i] = offset;
+  while (last != children.end() && last->first == idx) ++last;
+  auto each_child = [&](auto&& f) {
+    for (auto c = first; c != last; ++c) {
+      const auto j = static_cast<std::size_t>(c->second);
+      f(load_mass_[j], bodies_[j].p, load_offset_[j]);
+    }
+  };
+  sum_load(bodies_[i].inv_mass, bodies_[i].p, each_child, load_mass_[i], load_offset_[i]);  // eq 117
   return {first, last};
 }
 

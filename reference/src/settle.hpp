@@ -35,12 +35,8 @@ void World<T>::settle() {
     // spin (eqs 72-74) relative to a movable support's; the AABB model as the source.
     const T speed = settle_linear_velocity(b.v, v_support, n, support_gap_[i], P_, oriented,
                                            settle_limit_[i]);  // eqs 75, 77, 116
-    if (oriented && movable)
-      b.w = settle_angular_velocity_on(b.w, w_solved_[static_cast<std::size_t>(other)], b.R, n, speed,
-                                       leaning_[i] != 0, P_);  // eqs 64-74, 115, relative to the support
-    else
-      b.w = settle_angular_velocity(b.w, b.R, n, speed, true, leaning_[i] != 0,
-                                    P_);  // eqs 64-74, 115, up = support normal
+    b.w = settle_spin(b.w, oriented && movable, [&] { return w_solved_[static_cast<std::size_t>(other)]; }, b.R, n,
+                      speed, leaning_[i] != 0, P_);  // eqs 64-74, 115, up = support normal
     check_faults(idx, "settling");
   }
 }

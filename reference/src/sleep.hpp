@@ -46,8 +46,7 @@ void World<T>::wake_unsupported() {
     for (Rest& r : rests_[i]) {
       const Body<T>& s = bodies_[static_cast<std::size_t>(r.body)];
       const Vec3<T> now = support_point(s.p, s.R, r.local);
-      woke = woke || (s.awake() && (support_moved(now, r.rest, P_.wake_support_distance) ||
-                                    support_moved(now, r.last, P_.sleep_linear * P_.dt)));
+      woke = woke || (s.awake() && support_carried_away(now, r.rest, r.last, P_));
       r.last = now;
     }
     if (woke) {
@@ -69,18 +68,18 @@ void World<T>::record_supports(std::size_t i) {
   std::vector<Rest>& rests = rests_[i];
   rests.clear();
   for (const Contact<T>& c : contacts_) {
-    if (c.b < 0 || !(c.penetration > -P_.slop)) continue;
+    if (c.b < 0) continue;
     const bool is_a = c.a == static_cast<int>(i), is_b = c.b == static_cast<int>(i);
     if (!is_a && !is_b) continue;
-    if ((is_a ? c.n.y : -c.n.y) < P_.support_normal_min && leaning_[i] == 0) continue;
+    if (!records_rest(c.penetration, is_a ? c.n.y : -c.n.y, leaning_[i] != 0, P_)) continue;
     const int other = is_a ? c.b : c.a;
     const Body<T>& s = bodies_[static_cast<std::size_t>(other)];
     if (s.is_static) continue;
-    bool seen = false;
-    for (const Rest& r : rests) seen = seen || r.body == other;
-    if (seen) continue;
-    if (static_cast<int>(rests.size()) == kMaxRests) break;
-    const Vec3<T> local = mat_transpose_mul(s.R, c.point - s.p);
+    const int slot = rest_slot(static_cast<int>(rests.size()), other,
+                               [&](int r) { return rests[static_cast<std::size_t>(r)].body; });
+    if (slot < 0) continue;
+    if (slot == kMaxRests) break;
+    const Vec3<T> local = support_local(s.p, s.R, c.point);
     const Vec3<T> at = support_point(s.p, s.R, local);
     rests.push_back({other, local, at, at});
   }
@@ -143,17 +142,15 @@ void World<T>::update_sleep() {
     return;
   }
   std::sort(ready.begin(), ready.end(), [&](int a, int b) {
-    const T& ya = bodies_[static_cast<std::size_t>(a)].p.y;
-    const T& yb = bodies_[static_cast<std::size_t>(b)].p.y;
-    return ya != yb ? ya < yb : a < b;
+    return settles_before(bodies_[static_cast<std::size_t>(a)].p.y, a, bodies_[static_cast<std::size_t>(b)].p.y, b);
   });
   // (supported body, dynamic supporter) of every touching body-pair support contact.
   std::vector<std::pair<int, int>>& rests_on = rests_on_;
   rests_on.clear();
   for (const Contact<T>& c : contacts_) {
-    if (c.b < 0 || !(c.penetration > -P_.slop)) continue;
-    if (c.n.y >= P_.support_normal_min) rests_on.emplace_back(c.a, c.b);
-    if (-c.n.y >= P_.support_normal_min) rests_on.emplace_back(c.b, c.a);
+    if (c.b < 0) continue;
+    if (rests_on_contact(c.penetration, c.n.y, P_)) rests_on.emplace_back(c.a, c.b);  // eq 109
+    if (rests_on_contact(c.penetration, -c.n.y, P_)) rests_on.emplace_back(c.b, c.a);
   }
   std::sort(rests_on.begin(), rests_on.end());
   for (int idx : ready) {

@@ -211,14 +211,7 @@ World<T> World<T>::load_state(const std::uint8_t* data, std::size_t size) {
                             Num<T>::kName + " engine",
                         "header.number_type");
   snap::Reader r(data + kSnapshotHeaderSize, size - kSnapshotHeaderSize - kSnapshotChecksumSize);
-  Scene scene = snap::read_scene_section(r, info.body_count);
-  if (snap::constants_hash(scene.constants) != info.constants_hash)
-    throw SnapshotError("corrupt: the constants do not match the header's constants hash", "header.constants_hash");
-  try {
-    validate_scene_for(Num<T>::kName, scene);
-  } catch (const SceneError& e) {
-    throw SnapshotError(std::string("the scene section cannot run on this engine: ") + e.what(), "scene." + e.field);
-  }
+  Scene scene = snap::read_checked_scene(r, info, Num<T>::kName, "this engine");
   World w = [&] {
     try {
       return World(scene);

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "lockstep/scene_json.hpp"
+#include "lockstep/scene_limits.hpp"
 #include "snapshot_scene.hpp"
 
 namespace lockstep::snap {
@@ -109,6 +110,18 @@ Scene read_scene_section(Reader& r, std::uint32_t body_count) {
                         "scene." + (e.field.rfind("bodies[", 0) == 0 ? "shapes" + e.field.substr(6) : e.field));
   }
   return s;
+}
+
+Scene read_checked_scene(Reader& r, const SnapshotInfo& info, const char* number_type, const char* engine) {
+  Scene scene = read_scene_section(r, info.body_count);
+  if (constants_hash(scene.constants) != info.constants_hash)
+    throw SnapshotError("corrupt: the constants do not match the header's constants hash", "header.constants_hash");
+  try {
+    validate_scene_for(number_type, scene);
+  } catch (const SceneError& e) {
+    throw SnapshotError(std::string("the scene section cannot run on ") + engine + ": " + e.what(), "scene." + e.field);
+  }
+  return scene;
 }
 
 }  // namespace lockstep::snap

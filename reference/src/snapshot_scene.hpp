@@ -63,6 +63,12 @@ std::uint64_t constants_hash(const Constants& c);
 // SnapshotError.
 Scene read_scene_section(Reader& r, std::uint32_t body_count);
 
+// Reads the scene section of a snapshot whose header is `info` and checks it
+// against the header's constants hash and the engine's number type
+// (validate_scene_for; `engine` names it in the message: "this engine",
+// "the gpu engine"); throws SnapshotError.
+Scene read_checked_scene(Reader& r, const SnapshotInfo& info, const char* number_type, const char* engine);
+
 // Writes the 40-byte header; the size and checksum are patched by finish().
 void write_header(Writer& w, SnapshotNumber number, std::uint32_t body_count, std::uint64_t constants_hash,
                   std::uint32_t frame);

@@ -85,11 +85,7 @@ World<T>::World(const Scene& scene)
     g.min = world_detail::to_vec<T>(d.min);
     g.max = world_detail::to_vec<T>(d.max);
     g.n[0] = d.nx; g.n[1] = d.ny; g.n[2] = d.nz;
-    for (int a = 0; a < 3; ++a) {
-      const T cells = Num<T>::from_int(g.n[a] - 1);
-      g.inv_spacing[a] = cells / (g.max[a] - g.min[a]);  // eq 32
-      g.spacing[a] = (g.max[a] - g.min[a]) / cells;
-    }
+    set_grid_spacing(g);  // eq 32
     sdfs_.push_back(g);
     sdf_e_.push_back(n(d.material.restitution));
     sdf_mu_.push_back(n(d.material.friction));

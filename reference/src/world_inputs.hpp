@@ -49,10 +49,7 @@ std::pair<Vec3<T>, Vec3<T>> World<T>::pending_force(int index) const {
 
 template <class T>
 BodyId World<T>::apply(const Input& input) {
-  if (input.frame != frame_ + 1)
-    throw std::invalid_argument("apply: input.frame = " + std::to_string(input.frame) + " but the world is at frame " +
-                                std::to_string(frame_) + ": an input of frame f is applied before the step that "
-                                "computes frame f; apply it when frame() == " + std::to_string(static_cast<long long>(input.frame) - 1));
+  input_check::frame(input.frame, frame_);
   switch (input.kind) {
     case InputKind::create: return create_body(input.body);
     case InputKind::destroy: destroy_body(input.id); break;

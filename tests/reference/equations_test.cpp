@@ -717,5 +717,85 @@ TEST(SdfTest, Eq32To36PlaneIsExact) {
   EXPECT_FALSE(sdf_contains(g, V{0, 2.5, 0}));
 }
 
+// The combining rules both engines call (issue 29: every rule written once).
+TEST(CombineTest, Eq110MeanDepthAndDeepestPoint) {
+  const double pen[4] = {0.01, 0.03, 0.03, -0.01};
+  EXPECT_NEAR(mean_depth(pen, 4), 0.015, 1e-15);
+  EXPECT_EQ(deepest_point(pen, 4), 1);  // the first of two equally deep
+  EXPECT_EQ(mean_depth(pen, 0), 0.0);
+  EXPECT_EQ(deepest_point(pen, 0), 0);
+  EXPECT_TRUE(is_support_pair(V{0, -0.9, 0.1}, P.support_normal_min));
+  EXPECT_FALSE(is_support_pair(V{1, 0, 0}, P.support_normal_min));
+}
+TEST(CombineTest, Eq89GroundTieRule) {
+  const double depth[4] = {0.02, 0.03, 0.03, 0.03};
+  const bool bouncing[4] = {false, true, false, false};
+  auto point = [&](int k, double& d) { d = depth[k]; return k != 3; };
+  auto bounces = [&](int k) { return bouncing[k]; };
+  double best = 0;
+  EXPECT_EQ(ground_correction_point(4, point, bounces, best), 2);  // tied with 1, which bounces
+  EXPECT_EQ(best, 0.03);
+  auto none = [](int, double&) { return false; };
+  EXPECT_EQ(ground_correction_point(4, none, bounces, best), -1);
+}
+TEST(CombineTest, Eq111HoldLowerSide) {
+  BodyView<double> a = dynamic_view(V{}, V{}, 1.0, identity(), V{1, 1, 1});
+  BodyView<double> b = dynamic_view(V{}, V{}, 2.0, identity(), V{1, 1, 1});
+  hold_lower_side(a, b, V{0, 1, 0}, P.support_normal_min);  // a is above b
+  EXPECT_EQ(a.inv_mass, 1.0);
+  EXPECT_EQ(b.inv_mass, 0.0);
+  BodyView<double> c = immovable_view<double>(), e = dynamic_view(V{}, V{}, 2.0, identity(), V{1, 1, 1});
+  hold_lower_side(c, e, V{0, 1, 0}, P.support_normal_min);  // the upper side cannot move: the lower one does
+  EXPECT_EQ(e.inv_mass, 2.0);
+}
+TEST(CombineTest, Eqs75And98And112SupportAccumulation) {
+  V sum{};
+  V arms[kMaxSupportPoints];
+  int n_arms = 0;
+  double gap = 0;
+  auto slow = [] { return 0.0; };
+  EXPECT_TRUE(add_support_contact(sum, arms, n_arms, gap, false, kUp, 0.001, V{1, -1, 0}, slow, P));
+  EXPECT_EQ(gap, 0.0);
+  EXPECT_EQ(n_arms, 1);
+  EXPECT_FALSE(add_support_contact(sum, arms, n_arms, gap, true, V{1, 0, 0}, 0.001, V{1, 0, 0}, slow, P));  // a wall
+  EXPECT_EQ(n_arms, 1);
+  const double spec = -0.5 * (P.slop + P.support_fade);  // speculative, within support_fade
+  ASSERT_LT(spec, -P.slop);
+  bool asked = false;
+  auto fast = [&] { asked = true; return -10.0; };
+  EXPECT_FALSE(add_support_contact(sum, arms, n_arms, gap, true, kUp, spec, V{-1, -1, 0}, fast, P));
+  EXPECT_TRUE(asked);
+  EXPECT_EQ(n_arms, 1);  // an impact is no support point
+  EXPECT_NEAR(sum.y, 1.0 + support_weight(spec, P.support_fade), 1e-12);
+  EXPECT_TRUE(holds_body(V{1, 0, 0}, 0.0, false, P));
+  EXPECT_FALSE(holds_body(kUp, 0.0, true, P));
+}
+TEST(CombineTest, Eqs108And109Records) {
+  EXPECT_TRUE(records_rest(0.0, 1.0, false, P));
+  EXPECT_FALSE(records_rest(0.0, 0.0, false, P));
+  EXPECT_TRUE(records_rest(0.0, 0.0, true, P));  // a leaning body records what holds it
+  EXPECT_FALSE(records_rest(-1.0, 1.0, true, P));
+  EXPECT_TRUE(rests_on_contact(0.0, 1.0, P));
+  EXPECT_FALSE(rests_on_contact(0.0, -1.0, P));
+  const int bodies[kMaxRests] = {4, 7, 9, 2};
+  auto at = [&](int r) { return bodies[r]; };
+  EXPECT_EQ(rest_slot(2, 7, at), -1);
+  EXPECT_EQ(rest_slot(2, 9, at), 2);
+  EXPECT_EQ(rest_slot(kMaxRests, 5, at), kMaxRests);
+  const V now{0, 0, 0};
+  EXPECT_FALSE(support_carried_away(now, now, now, P));
+  EXPECT_TRUE(support_carried_away(now, V{1, 0, 0}, now, P));
+  EXPECT_EQ(support_local(V{1, 2, 3}, identity(), V{2, 2, 3}).x, 1.0);
+}
+TEST(CombineTest, Eq117LoadSums) {
+  double mass = 0;
+  V offset{};
+  auto children = [](auto&& f) { f(1.0, V{0, 1, 0}, V{}); f(2.0, V{0, 1, 0}, V{1, 0, 0}); };
+  sum_load(0.5, V{}, children, mass, offset);  // 2 kg carrying 1 and 2 kg
+  EXPECT_EQ(mass, 5.0);
+  EXPECT_NEAR(offset.y, 0.6, 1e-15);
+  EXPECT_NEAR(offset.x, 0.4, 1e-15);
+}
+
 }  // namespace
 }  // namespace lockstep::test

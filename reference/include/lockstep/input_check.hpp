@@ -27,6 +27,11 @@ void body(const Scene& scene, const BodyDesc& desc, std::string_view number_type
 void vector(const Vec3d& v, double limit, const char* unit, const std::string& what, const char* field,
             const char* fix);
 
+// Throws unless an input of frame `input_frame` is applied now, to a world at
+// frame `world_frame` (an input of frame f is applied before the step that
+// computes frame f).
+void frame(int input_frame, int world_frame);
+
 // "slot 3, generation 0".
 std::string id_text(std::uint32_t slot, std::uint32_t generation);
 

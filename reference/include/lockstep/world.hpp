@@ -17,6 +17,7 @@
 #include "lockstep/physics/box_box.hpp"
 #include "lockstep/physics/params.hpp"
 #include "lockstep/physics/settle.hpp"
+#include "lockstep/physics/sleep.hpp"
 #include "lockstep/physics/sdf.hpp"
 #include "lockstep/physics/solve_order.hpp"
 #include "lockstep/physics/solver.hpp"
@@ -317,7 +318,6 @@ class World {
   // eq 108: per sleeping body, the dynamic bodies it rested on when it fell
   // asleep (at most kMaxRests, in contact order) and their support points.
   struct Rest { int body; Vec3<T> local, rest, last; };  // eq 108: last, where the point was at the frame's start
-  static constexpr int kMaxRests = 4;
   std::vector<std::vector<Rest>> rests_;
   std::vector<int> support_;          // per body: index of its first support contact, -1 if none
   std::vector<std::pair<int, int>> rests_on_;  // stage 9 scratch: (body, dynamic body it rests on), sorted (eq 109)

@@ -38,6 +38,13 @@ struct BodyArrays {
   int* sleep_frame = nullptr;    // frame at which it last fell asleep, -1 never
 };
 
+// The fourth float of the packed per-body groups, by name: pos's inverse
+// mass, half's restitution, inert's friction, aabb's largest half extent.
+LS_HD inline float inv_mass_of(const F4& pos) { return pos.w; }
+LS_HD inline float restitution_of(const F4& half) { return half.w; }
+LS_HD inline float friction_of(const F4& inert) { return inert.w; }
+LS_HD inline float max_half_of(const F4& aabb) { return aabb.w; }
+
 // A body is awake when it is neither static nor asleep (woken bodies included).
 LS_HD inline bool is_awake(std::uint8_t f) { return (f & (kFlagStatic | kFlagAsleep)) == 0; }
 

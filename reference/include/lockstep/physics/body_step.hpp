@@ -1,7 +1,7 @@
 // Per-body steps of the frame (docs/SPEC.md 7.2 stages 1, 6, 8, 9 and the
 // wake test of stage 4), host and device (LS_HD), generic over the number
 // type: World<T>'s per-body loops (reference/src/) and the GPU engine's
-// kernels (gpu/src/stages.hpp) call these same functions, so the engines
+// kernels (gpu/src/*_stages.hpp) call these same functions, so the engines
 // differ in scheduling, not in formulas.
 #pragma once
 #include "lockstep/math/vec.hpp"
@@ -73,6 +73,17 @@ LS_HD Vec3<T> settle_angular_velocity_on(const Vec3<T>& w, const Vec3<T>& w_supp
   const Alignment<T> al = alignment_of(R, n);                  // eqs 64-66 (65 fixed)
   const Vec3<T> w1 = leaning ? w : righting(w, al, n, speed, P);  // eqs 67-71, 115
   return w_support + regime_damping(w1 - w_support, al.alignment, P);  // eqs 72-74, relative
+}
+
+// eqs 64-74, 115 (stage 6): a settling body's spin, relative to its support's
+// (w_support(), as the solver left it) when that support is movable (the
+// oriented-box model with an awake support body), else on its own
+// (settle_angular_velocity, damped as on an immovable support).
+template <class T, class SupportSpin>
+LS_HD Vec3<T> settle_spin(const Vec3<T>& w, bool movable_support, SupportSpin&& w_support, const Mat3<T>& R,
+                          const Vec3<T>& n, const T& speed, bool leaning, const Params<T>& P) {
+  if (movable_support) return settle_angular_velocity_on(w, w_support(), R, n, speed, leaning, P);
+  return settle_angular_velocity(w, R, n, speed, true, leaning, P);
 }
 
 // Stage 8 (eqs 2, 7-10) for one awake body.
@@ -153,6 +164,20 @@ LS_HD Vec3<T> support_point(const Vec3<T>& p, const Mat3<T>& R, const Vec3<T>& l
 template <class T>
 LS_HD bool support_moved(const Vec3<T>& now, const Vec3<T>& from, const T& limit) {
   return max_abs(now - from) > limit;
+}
+
+// eq 108: a supporter has carried the sleeper's support point away: `now`
+// more than wake_support_distance from `rest`, or more than sleep_linear dt
+// from `last`.
+template <class T>
+LS_HD bool support_carried_away(const Vec3<T>& now, const Vec3<T>& rest, const Vec3<T>& last, const Params<T>& P) {
+  return support_moved(now, rest, P.wake_support_distance) || support_moved(now, last, P.sleep_linear * P.dt);
+}
+
+// eq 108: a support point as recorded: in its supporter's frame (at p, turned by R).
+template <class T>
+LS_HD Vec3<T> support_local(const Vec3<T>& p, const Mat3<T>& R, const Vec3<T>& point) {
+  return mat_transpose_mul(R, point - p);
 }
 
 }  // namespace lockstep

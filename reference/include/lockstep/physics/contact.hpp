@@ -202,6 +202,69 @@ LS_HD void manifold_correction(Vec3<T>& pa, const Vec3<T>& pa0, Vec3<T>& pb, con
   baumgarte_correction(pa, pb, n, depth - dot(moved, n), inv_a, inv_b, slop, percent);  // eqs 63, 89
 }
 
+// eq 110: a support pair (|n.y| >= support_normal_min) moves only its upper side.
+template <class T>
+LS_HD bool is_support_pair(const Vec3<T>& n, const T& support_normal_min) {
+  return Num<T>::abs(n.y) >= support_normal_min;
+}
+
+// eq 110: the depth by which a box-box pair is corrected, the mean of its
+// points' penetrations (a tilted box resting on one corner is not lifted by
+// that corner); 0 with no points.
+template <class T>
+LS_HD T mean_depth(const T* penetration, int count) {
+  if (count <= 0) return T{};
+  T sum{};
+  for (int k = 0; k < count; ++k) sum += penetration[k];
+  return sum / Num<T>::from_int(count);
+}
+
+// eqs 89, 110: the point of a manifold that carries its correction: the
+// deepest, the first on ties (0 with no points).
+template <class T>
+LS_HD int deepest_point(const T* penetration, int count) {
+  int deepest = 0;
+  for (int k = 1; k < count; ++k)
+    if (penetration[k] > penetration[deepest]) deepest = k;
+  return deepest;
+}
+
+// eq 89's ground tie rule: the ground point of a body that carries its
+// correction is the deepest, the first on ties but a resting one before a
+// bouncing one (which tied corner is "first" depends on the corner
+// numbering, which a mirror image permutes; this keeps the choice
+// sign-symmetric); -1 when there is none. point(k, depth) -> false: k is no
+// contact; bounces(k): its e_eff > 0 (eq 76); best_depth: the chosen one's
+// depth. A bouncing choice is not corrected.
+template <class T, class Point, class Bounces>
+LS_HD int ground_correction_point(int count, Point&& point, Bounces&& bounces, T& best_depth) {
+  int best = -1;
+  best_depth = T{};
+  for (int k = 0; k < count; ++k) {
+    T depth{};
+    if (!point(k, depth)) continue;
+    if (best < 0 || depth > best_depth || (depth == best_depth && bounces(best) && !bounces(k))) {
+      best = k;
+      best_depth = depth;
+    }
+  }
+  return best;
+}
+
+// eq 111 (as eq 110): a support pair moves only its upper side (n points from
+// b to a: a is upper when n.y > 0), if that side can move: the lower side's
+// view is made immovable.
+template <class T>
+LS_HD void hold_lower_side(BodyView<T>& a, BodyView<T>& b, const Vec3<T>& n, const T& support_normal_min) {
+  if (!is_support_pair(n, support_normal_min)) return;
+  BodyView<T>& upper = n.y > T{} ? a : b;
+  BodyView<T>& lower = n.y > T{} ? b : a;
+  if (upper.inv_mass > T{}) {
+    lower.inv_mass = T{};
+    lower.inv_inertia = Vec3<T>{};
+  }
+}
+
 // eq 111: one point of a body pair's manifold pushed out of its residual
 // penetration, by translating and turning the two sides (non-linear
 // Gauss-Seidel on positions). `a.v`, `a.w` (and b's) hold the displacement

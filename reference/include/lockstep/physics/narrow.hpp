@@ -1,7 +1,7 @@
 // Per-element contact generation (docs/SPEC.md 7.2 stage 3), host and device
 // (LS_HD), generic over the number type: World<T>::narrow_phase
 // (reference/src/narrow_phase.hpp) and the GPU engine's kernels
-// (gpu/src/stages.hpp) call these same functions for one ground corner, one
+// (gpu/src/*_stages.hpp) call these same functions for one ground corner, one
 // body pair and one SDF sample.
 #pragma once
 #include "lockstep/math/vec.hpp"

@@ -14,6 +14,16 @@ struct SdfGrid {
   const T* values = nullptr;
 };
 
+// eq 32: a grid's spacing and its inverse from its bounds and sample counts.
+template <class T>
+LS_HD void set_grid_spacing(SdfGrid<T>& g) {
+  for (int a = 0; a < 3; ++a) {
+    const T cells = Num<T>::from_int(g.n[a] - 1);
+    g.inv_spacing[a] = cells / (g.max[a] - g.min[a]);  // eq 32
+    g.spacing[a] = (g.max[a] - g.min[a]) / cells;
+  }
+}
+
 template <class T>
 LS_HD bool sdf_contains(const SdfGrid<T>& g, const Vec3<T>& p) {
   for (int a = 0; a < 3; ++a)

@@ -191,6 +191,38 @@ LS_HD bool support_impact(const T& penetration, const T& v_n, const Params<T>& P
   return !(penetration > -P.slop) && v_n < -P.rest_speed;
 }
 
+// eq 112: whether a contact touching a body (within slop) holds it beyond its
+// support (holds_off_support); n: its normal towards the body.
+template <class T>
+LS_HD bool holds_body(const Vec3<T>& n, const T& penetration, bool immovable, const Params<T>& P) {
+  return penetration > -P.slop && holds_off_support(n, immovable, P.support_normal_min);
+}
+
+// eqs 75, 98, 112: one contact of a body joins its support, in contact order.
+// n: its normal towards the body; arm: its point less the body's centre;
+// v_n(): its closing speed (contact_closing_speed, asked of a speculative
+// contact only). Within support_fade and facing up (n.y >=
+// support_normal_min), its weighted normal joins n_sum (98) and, unless it is
+// an impact, its lever arm joins arms (112; n_arms goes up to
+// kMaxSupportPoints + 1: too many to look at); within slop it is a support
+// contact and its gap joins the support gap (75; `supported`: the body had a
+// support contact before). Returns whether it is a support contact.
+template <class T, class ClosingSpeed>
+LS_HD bool add_support_contact(Vec3<T>& n_sum, Vec3<T>* arms, int& n_arms, T& gap, bool supported, const Vec3<T>& n,
+                               const T& penetration, const Vec3<T>& arm, ClosingSpeed&& v_n, const Params<T>& P) {
+  if (!(penetration > -P.support_fade) || !(n.y >= P.support_normal_min)) return false;
+  n_sum += n * support_weight(penetration, P.support_fade);  // eq 98
+  const bool speculative = !(penetration > -P.slop);
+  if (!(speculative && support_impact(penetration, v_n(), P))) {  // eq 112: an impact is no support point
+    if (n_arms < kMaxSupportPoints) arms[n_arms] = arm;
+    if (n_arms <= kMaxSupportPoints) ++n_arms;
+  }
+  if (speculative) return false;
+  const T g = support_gap(penetration);  // eq 75
+  gap = supported ? Num<T>::min(gap, g) : g;
+  return true;
+}
+
 // eq 115: whether a body leans: a contact holds it (`held`:
 // holds_off_support, a wall, a neighbour beside it, a sleeper above it) and
 // either it has no support contact (`supported`: wedged between steep
@@ -203,6 +235,27 @@ LS_HD bool support_impact(const T& penetration, const T& v_n, const Params<T>& P
 // a pile) does not lean.
 LS_HD inline bool leans(bool supported, bool held, bool over_contacts) {
   return held && (!supported || !over_contacts);
+}
+
+// eqs 112, 115: a body's stance from its contacts. `over`: it is over its
+// support: something holds it (`held`, holds_body), it has no support
+// contact (`supported` false: nothing to tip about), or its centre, seen
+// along up, is over its support points (over_support on the lever arms
+// `arms`, n_arms of them; a centre on the boundary counts while it turns
+// slower than sleep_angular). `leans`: eq 115.
+struct Stance {
+  bool over = true;
+  bool leans = false;
+};
+template <class T>
+LS_HD Stance stance_of(const Vec3<T>* arms, int n_arms, bool supported, bool held, const Vec3<T>& w,
+                       const Params<T>& P) {
+  const bool over_contacts =
+      !supported || over_support(arms, n_arms, Vec3<T>{T{}, Num<T>::from_int(1), T{}}, length(w) < P.sleep_angular);
+  Stance s;
+  s.over = held || over_contacts;
+  s.leans = leans(supported, held, over_contacts);
+  return s;
 }
 
 // eq 112 (the chain): whether body i (height yi) settles before body s
@@ -267,6 +320,24 @@ LS_HD T settle_limit(bool holds, bool spare, const Vec3<T>& g, const Vec3<T>& n,
   return Num<T>::min(P.settle_speed, friction_spare(g, n, mu, P.dt));
 }
 
+// eq 116: a supported body's footing: whether it can rest (something holds
+// it, `held`, or friction holds it against gravity g on its support normal n
+// with its first support contact's friction mu) and the speed up to which
+// eq 77 damps it (settle_limit; `oriented`: the oriented-box model).
+template <class T>
+struct Footing {
+  bool can_rest = true;
+  T limit{};
+};
+template <class T>
+LS_HD Footing<T> footing_of(bool held, bool oriented, const Vec3<T>& g, const Vec3<T>& n, const T& mu,
+                            const Params<T>& P) {
+  Footing<T> f;
+  f.can_rest = held || friction_holds(g, n, mu);
+  f.limit = settle_limit(f.can_rest, oriented && !held, g, n, mu, P);
+  return f;
+}
+
 // eq 117 (Part 4): the load a body carries. A body j's load parent is the
 // one body s that all of its support contacts (touching within slop, Part
 // 4) touch, when s is awake and settles before j (settles_before: lower, so
@@ -299,6 +370,22 @@ LS_HD Vec3<T> load_offset_add(const Vec3<T>& acc, const T& child_mass, const T& 
   return acc + ((child_p - p) + child_offset) * (child_mass / mass);
 }
 inline constexpr double kLoadMassCap = 16384.0;
+
+// eq 117: a body's load (mass M, offset D) from its load children's, in
+// ascending index: each_child(f) calls f(M_j, p_j, D_j) for each child in
+// that order (twice: the masses first, then the offsets).
+template <class T, class EachChild>
+LS_HD void sum_load(const T& inv_mass, const Vec3<T>& p, EachChild&& each_child, T& mass, Vec3<T>& offset) {
+  const T cap = Num<T>::from_double(kLoadMassCap);
+  T m = Num<T>::from_int(1) / inv_mass;
+  each_child([&](const T& child_mass, const Vec3<T>&, const Vec3<T>&) { m = load_mass_add(m, child_mass, cap); });
+  Vec3<T> d{};
+  each_child([&](const T& child_mass, const Vec3<T>& child_p, const Vec3<T>& child_offset) {
+    d = load_offset_add(d, child_mass, m, child_p, child_offset, p);
+  });
+  mass = m;
+  offset = d;
+}
 
 // eq 117: a load tips when a body in it is not over its support (eq 112, or
 // its own load not over it): the body itself, or something in a load

@@ -32,4 +32,33 @@ LS_HD bool wakes(const T& v_n, const T& penetration, const Params<T>& P) {
   return -v_n > P.wake_speed || penetration > P.wake_penetration;
 }
 
+// eq 108: a sleeping body's records: at most kMaxRests dynamic bodies it rested on.
+inline constexpr int kMaxRests = 4;
+
+// eq 108: whether a touching body-pair contact (within slop) is recorded for
+// a body falling asleep: its normal towards the body (up = its y) is a
+// support normal, or the body leans (eq 115: what holds it is recorded).
+template <class T>
+LS_HD bool records_rest(const T& penetration, const T& up, bool leans, const Params<T>& P) {
+  return penetration > -P.slop && !(up < P.support_normal_min && !leans);
+}
+
+// eq 108: where supporter `other` goes in a body's records (n of them so far,
+// body_at(r) the r-th one's body): -1 when it is there already, kMaxRests when
+// they are full, else n.
+template <class BodyAt>
+LS_HD int rest_slot(int n, int other, BodyAt&& body_at) {
+  bool seen = false;
+  for (int r = 0; r < n; ++r) seen = seen || body_at(r) == other;
+  if (seen) return -1;
+  return n == kMaxRests ? kMaxRests : n;
+}
+
+// eq 109: a body rests on the other side of a touching body-pair contact
+// (within slop) whose normal towards it (up = its y) is a support normal.
+template <class T>
+LS_HD bool rests_on_contact(const T& penetration, const T& up, const Params<T>& P) {
+  return penetration > -P.slop && up >= P.support_normal_min;
+}
+
 }  // namespace lockstep

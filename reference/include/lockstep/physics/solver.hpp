@@ -1,7 +1,7 @@
 // Per-contact steps of the contact solver (docs/SPEC.md 7.2 stage 5), host
 // and device (LS_HD), generic over the number type: World<T>::solve_contacts
 // (reference/src/contact_solver.hpp) and the GPU engine's kernels
-// (gpu/src/stages.hpp) call these same functions for one contact or one
+// (gpu/src/*_stages.hpp) call these same functions for one contact or one
 // manifold; they differ in the order of visits, not in formulas.
 #pragma once
 #include <new>

@@ -1,0 +1,35 @@
+// The scene-wide values the GPU engine's kernels need (SceneConsts).
+#pragma once
+#include "kernel_support.hpp"
+#include "lockstep/gpu/elements.hpp"
+#include "lockstep/gpu/soa.hpp"
+#include "lockstep/physics/box_box.hpp"
+
+namespace lockstep::gpu {
+
+// Scene-wide values the kernels need.
+struct SceneConsts {
+  Params<float> P{};
+  float half_tol = 0;  // contact_tolerance / 2 (eq 97)
+  bool gravity = false, damping = false, friction = false, restitution = false, sleep = false;
+  bool ground_on = false;
+  float ground_y = 0, ground_e = 0, ground_mu = 0;
+  int n_sdf = 0;
+  const SdfGrid<float>* sdf = nullptr;
+  const F4* sdf_material = nullptr;  // x: e, y: mu
+  const int* large = nullptr;        // large static bodies, ascending
+  int n_large = 0;
+  float relaxation = 1.0f;
+  bool oriented = false;  // the oriented-box pair model (docs/SPEC.md 2.4, eqs 100-110); false: the source's AABB model
+  const float* grow = nullptr;  // oriented-box model: per body, its growth this frame (eqs 97, 107); null: AABB model
+  // eqs 97, 107: body i's tolerance for ground corners.
+  LS_HD float immovable_tol(int i) const {
+    return grow != nullptr ? immovable_tolerance(ro(grow + i), half_tol, P.contact_tolerance) : P.contact_tolerance;
+  }
+  // Contacts with immovable things per active body: 8 ground corners (when
+  // ground_on), then 9 samples per SDF volume.
+  LS_HD int ground_slots() const { return ground_on ? 8 : 0; }
+  LS_HD int imm_stride() const { return ground_slots() + 9 * n_sdf; }
+};
+
+}  // namespace lockstep::gpu
