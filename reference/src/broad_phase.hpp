@@ -42,7 +42,7 @@ void World<T>::broad_phase() {
   T largest{};
   for (const Body<T>& b : bodies_)
     if (b.awake()) largest = Num<T>::max(largest, Num<T>::max(b.aabb_half.x, Num<T>::max(b.aabb_half.y, b.aabb_half.z)));
-  band_inv_ = band_inverse(largest);
+  scratch_.band_inv = band_inverse(largest);
   if (!scene_.effects.contacts || n < 2) return;
   // A pair needs an awake side (maybe_pair): with every body asleep or static
   // there is none, and the grid is not built (a pile at rest costs nothing here).
@@ -54,7 +54,7 @@ void World<T>::broad_phase() {
   }
   // Boxes grown by grow_ (eqs 97, 107), as the narrowphase grows them.
   // The grid's buffers are kept from frame to frame (no allocation per frame).
-  BroadScratch& g = broad_;
+  BroadScratch& g = scratch_.broad;
   g.cmin.resize(n);
   g.cmax.resize(n);
   g.min_x.resize(n);

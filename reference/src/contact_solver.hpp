@@ -49,7 +49,7 @@ void World<T>::solve_contacts() {
   };
   // A parallel region's counts: one per part, added up after (integers, in
   // any order).
-  std::vector<SolveCounts> part_counts(static_cast<std::size_t>(threads_));
+  std::vector<SolveCounts> part_counts(static_cast<std::size_t>(workers_.threads));
   auto region = [&](std::size_t count, std::size_t grain, auto&& item) {
     for (SolveCounts& c : part_counts) c = SolveCounts{};
     parallel_for(count, grain, [&](std::size_t k, int part) { item(k, part_counts[static_cast<std::size_t>(part)]); });
@@ -97,7 +97,7 @@ void World<T>::solve_contacts() {
   const bool oriented = scene_.pair_contacts == PairModel::kOrientedBox;
   // The visits: a manifold (consecutive contacts of one body with one other
   // side) or a single AABB pair contact, as [begin, end) in the list.
-  std::vector<std::pair<std::size_t, std::size_t>>& visits = visits_;
+  std::vector<std::pair<std::size_t, std::size_t>>& visits = scratch_.visits;
   visits.clear();
   for (std::size_t s = 0; s < contacts_.size();) {
     std::size_t e = s + 1;
@@ -110,7 +110,7 @@ void World<T>::solve_contacts() {
   // sides' masses and the points' k_n do not change in it (solve_manifold_rows
   // would form the same value at every pass). A visit whose first point has
   // k_n = 0 (both sides immovable) is skipped by the solve and has none.
-  visit_split_.assign(visits.size(), one);
+  scratch_.visit_split.assign(visits.size(), one);
   for (std::size_t vi = 0; vi < visits.size(); ++vi) {
     const std::size_t s = visits[vi].first, e = visits[vi].second;
     if (!(contacts_[s].b < 0 || oriented) || !(contacts_[s].state.k_n > T{})) continue;
@@ -118,75 +118,75 @@ void World<T>::solve_contacts() {
     const T inv_b = solver::view_of(bodies_, contacts_[s].b).inv_mass;
     T o{};
     for (std::size_t k = s; k < e; ++k) o += split_share(inv_a, inv_b, contacts_[k].state.k_n);
-    visit_split_[vi] = manifold_split(o, static_cast<int>(e - s));
+    scratch_.visit_split[vi] = manifold_split(o, static_cast<int>(e - s));
     check_faults(contacts_[s].a, "contact preparation");
   }
   // eqs 125-127: each awake body's own visits (immovable other side: the
   // environment, then static and sleeping bodies by index), and the edges
   // (two awake bodies) coloured in key order.
   auto awake = [&](int idx) { return idx >= 0 && bodies_[static_cast<std::size_t>(idx)].awake(); };
-  own_visits_.clear();
-  edges_.clear();
+  scratch_.own_visits.clear();
+  scratch_.edges.clear();
   for (std::size_t vi = 0; vi < visits.size(); ++vi) {
     const Contact<T>& c = contacts_[visits[vi].first];
     if (!(c.state.k_n > T{})) continue;  // both sides immovable: no visit
     if (awake(c.a) && awake(c.b)) {
       const Body<T>& A = bodies_[static_cast<std::size_t>(c.a)];
       const Body<T>& B = bodies_[static_cast<std::size_t>(c.b)];
-      edges_.push_back({EdgeKey{edge_key(c.a, c.b, A.p.y, B.p.y, band_inv_), c.a, c.b}, static_cast<int>(vi)});  // eqs 125-126
+      scratch_.edges.push_back({EdgeKey{edge_key(c.a, c.b, A.p.y, B.p.y, scratch_.band_inv), c.a, c.b}, static_cast<int>(vi)});  // eqs 125-126
       continue;
     }
     const int self = awake(c.a) ? c.a : c.b, other = self == c.a ? c.b : c.a;
     // environment (other < 0) first in list order, then bodies by index
     const std::uint64_t rank = other < 0 ? 0u : static_cast<std::uint64_t>(other) + 1u;
-    own_visits_.emplace_back((static_cast<std::uint64_t>(self) << 32) | rank, static_cast<int>(vi));
+    scratch_.own_visits.emplace_back((static_cast<std::uint64_t>(self) << 32) | rank, static_cast<int>(vi));
   }
-  std::sort(own_visits_.begin(), own_visits_.end());
-  visit_bodies_.clear();
-  body_visit_begin_.clear();
-  body_visits_.clear();
-  for (std::size_t k = 0; k < own_visits_.size(); ++k) {
-    const int body = static_cast<int>(own_visits_[k].first >> 32);
-    if (visit_bodies_.empty() || visit_bodies_.back() != body) {
-      visit_bodies_.push_back(body);
-      body_visit_begin_.push_back(static_cast<int>(k));
+  std::sort(scratch_.own_visits.begin(), scratch_.own_visits.end());
+  scratch_.visit_bodies.clear();
+  scratch_.body_visit_begin.clear();
+  scratch_.body_visits.clear();
+  for (std::size_t k = 0; k < scratch_.own_visits.size(); ++k) {
+    const int body = static_cast<int>(scratch_.own_visits[k].first >> 32);
+    if (scratch_.visit_bodies.empty() || scratch_.visit_bodies.back() != body) {
+      scratch_.visit_bodies.push_back(body);
+      scratch_.body_visit_begin.push_back(static_cast<int>(k));
     }
-    body_visits_.push_back(own_visits_[k].second);
+    scratch_.body_visits.push_back(scratch_.own_visits[k].second);
   }
-  body_visit_begin_.push_back(static_cast<int>(body_visits_.size()));
-  std::sort(edges_.begin(), edges_.end(), [](const SolveEdge& x, const SolveEdge& y) { return x.key.before(y.key); });
-  colour_top_.assign(bodies_.size(), -1);
+  scratch_.body_visit_begin.push_back(static_cast<int>(scratch_.body_visits.size()));
+  std::sort(scratch_.edges.begin(), scratch_.edges.end(), [](const SolveEdge& x, const SolveEdge& y) { return x.key.before(y.key); });
+  scratch_.colour_top.assign(bodies_.size(), -1);
   int colours = 0;
-  std::vector<int>& colour_of = colour_visits_;  // first the colour of each edge, then the edges by colour
-  colour_of.resize(edges_.size());
-  for (std::size_t k = 0; k < edges_.size(); ++k) {
-    int& top_lo = colour_top_[static_cast<std::size_t>(edges_[k].key.lo)];
-    int& top_hi = colour_top_[static_cast<std::size_t>(edges_[k].key.hi)];
+  std::vector<int>& colour_of = scratch_.colour_visits;  // first the colour of each edge, then the edges by colour
+  colour_of.resize(scratch_.edges.size());
+  for (std::size_t k = 0; k < scratch_.edges.size(); ++k) {
+    int& top_lo = scratch_.colour_top[static_cast<std::size_t>(scratch_.edges[k].key.lo)];
+    int& top_hi = scratch_.colour_top[static_cast<std::size_t>(scratch_.edges[k].key.hi)];
     const int colour = edge_colour(top_lo, top_hi);  // eq 127
     top_lo = top_hi = colour;
     colour_of[k] = colour;
     colours = std::max(colours, colour + 1);
   }
-  colour_begin_.assign(static_cast<std::size_t>(colours) + 1, 0);
-  for (int c : colour_of) ++colour_begin_[static_cast<std::size_t>(c) + 1];
-  for (int c = 0; c < colours; ++c) colour_begin_[static_cast<std::size_t>(c) + 1] += colour_begin_[static_cast<std::size_t>(c)];
+  scratch_.colour_begin.assign(static_cast<std::size_t>(colours) + 1, 0);
+  for (int c : colour_of) ++scratch_.colour_begin[static_cast<std::size_t>(c) + 1];
+  for (int c = 0; c < colours; ++c) scratch_.colour_begin[static_cast<std::size_t>(c) + 1] += scratch_.colour_begin[static_cast<std::size_t>(c)];
   {
-    std::vector<int> at(colour_begin_.begin(), colour_begin_.end() - 1);
-    std::vector<int> by_colour(edges_.size());
-    for (std::size_t k = 0; k < edges_.size(); ++k)
-      by_colour[static_cast<std::size_t>(at[static_cast<std::size_t>(colour_of[k])]++)] = edges_[k].visit;
-    colour_visits_.swap(by_colour);
+    std::vector<int> at(scratch_.colour_begin.begin(), scratch_.colour_begin.end() - 1);
+    std::vector<int> by_colour(scratch_.edges.size());
+    for (std::size_t k = 0; k < scratch_.edges.size(); ++k)
+      by_colour[static_cast<std::size_t>(at[static_cast<std::size_t>(colour_of[k])]++)] = scratch_.edges[k].visit;
+    scratch_.colour_visits.swap(by_colour);
   }
   // A visit is a function of its two sides' velocities and its contacts'
   // states alone; one that applied no impulse changed neither, so while
   // neither side's velocity has changed since, visiting it again would apply
   // none again: it is skipped (the same bits), counted as the visit it
-  // repeats. velocity_version_[i] counts the visits that changed awake body
+  // repeats. scratch_.velocity_version[i] counts the visits that changed awake body
   // i (an immovable side's velocity never changes: version 0).
-  velocity_version_.assign(bodies_.size(), 0u);
-  auto version = [&](int idx) { return awake(idx) ? velocity_version_[static_cast<std::size_t>(idx)] : 0u; };
+  scratch_.velocity_version.assign(bodies_.size(), 0u);
+  auto version = [&](int idx) { return awake(idx) ? scratch_.velocity_version[static_cast<std::size_t>(idx)] : 0u; };
   const bool skip_converged = oriented && P_.converged_speed > T{};  // eq 113
-  idle_visits_.assign(visits.size(), IdleVisit{});
+  scratch_.idle_visits.assign(visits.size(), IdleVisit{});
   // One visit of pass `it`; its counts go to `total` (one per part of a
   // parallel region, summed after: integers, in any order).
   auto visit_at = [&](std::size_t at, int it, SolveCounts& total) {
@@ -195,7 +195,7 @@ void World<T>::solve_contacts() {
     const bool manifold = contacts_[s].b < 0 || oriented;
     const int ia = contacts_[s].a, ib = contacts_[s].b;
     const unsigned version_a = version(ia), version_b = version(ib);
-    IdleVisit& idle = idle_visits_[at];
+    IdleVisit& idle = scratch_.idle_visits[at];
     // eq 113 (oriented-box model, converged_speed > 0): from pass
     // converged_pass on, a visit that last changed its sides' velocities
     // by less than converged_speed with no step of eq 99 shortened below
@@ -231,7 +231,7 @@ void World<T>::solve_contacts() {
       auto store = [&](int k, const ContactState<T>& st) { contacts_[s + static_cast<std::size_t>(k)].state = st; };
       auto row = [&](int k) -> const NormalRow<T>& { return contacts_[s + static_cast<std::size_t>(k)].row; };
       solve_manifold_rows<solver::kManifoldPoints>(A, B, point, row, load, store, fx.friction, fx.gravity, one, P_,
-                                                   counts, &visit_split_[at]);
+                                                   counts, &scratch_.visit_split[at]);
     } else {
       Contact<T>& c = contacts_[s];
       solve_contact(A, c.r1, B, c.r2, c.n, c.penetration, c.state, fx.friction, fx.gravity, one, P_, counts);
@@ -244,8 +244,8 @@ void World<T>::solve_contacts() {
     check_faults(ia, ib >= 0 ? "contact impulse (with another body)" : "contact impulse");
     idle.idle = counts.normal_impulses == 0 && counts.friction_steps == 0;
     if (!idle.idle) {
-      if (awake(ia)) ++velocity_version_[static_cast<std::size_t>(ia)];
-      if (awake(ib)) ++velocity_version_[static_cast<std::size_t>(ib)];
+      if (awake(ia)) ++scratch_.velocity_version[static_cast<std::size_t>(ia)];
+      if (awake(ib)) ++scratch_.velocity_version[static_cast<std::size_t>(ib)];
     }
     idle.version_a = version(ia);
     idle.version_b = version(ib);
@@ -262,19 +262,19 @@ void World<T>::solve_contacts() {
   // Step 1 of a pass: each awake body's own visits, in order (backwards on
   // odd passes of the oriented-box model); bodies are independent.
   auto own_visits = [&](int it, bool reverse) {
-    region(visit_bodies_.size(), solver::kVisitGrain, [&](std::size_t b, SolveCounts& total) {
-      const int lo = body_visit_begin_[b], hi = body_visit_begin_[b + 1];
+    region(scratch_.visit_bodies.size(), solver::kVisitGrain, [&](std::size_t b, SolveCounts& total) {
+      const int lo = scratch_.body_visit_begin[b], hi = scratch_.body_visit_begin[b + 1];
       if (!reverse)
-        for (int k = lo; k < hi; ++k) visit_at(static_cast<std::size_t>(body_visits_[static_cast<std::size_t>(k)]), it, total);
+        for (int k = lo; k < hi; ++k) visit_at(static_cast<std::size_t>(scratch_.body_visits[static_cast<std::size_t>(k)]), it, total);
       else
-        for (int k = hi; k-- > lo;) visit_at(static_cast<std::size_t>(body_visits_[static_cast<std::size_t>(k)]), it, total);
+        for (int k = hi; k-- > lo;) visit_at(static_cast<std::size_t>(scratch_.body_visits[static_cast<std::size_t>(k)]), it, total);
     });
   };
   // Step 2: colour c's edges, no two sharing a body.
   auto colour = [&](int it, int c) {
-    const int lo = colour_begin_[static_cast<std::size_t>(c)], hi = colour_begin_[static_cast<std::size_t>(c) + 1];
+    const int lo = scratch_.colour_begin[static_cast<std::size_t>(c)], hi = scratch_.colour_begin[static_cast<std::size_t>(c) + 1];
     region(static_cast<std::size_t>(hi - lo), solver::kVisitGrain, [&](std::size_t k, SolveCounts& total) {
-      visit_at(static_cast<std::size_t>(colour_visits_[static_cast<std::size_t>(lo) + k]), it, total);
+      visit_at(static_cast<std::size_t>(scratch_.colour_visits[static_cast<std::size_t>(lo) + k]), it, total);
     });
   };
   // 7.2 step 5 (oriented-box model): even passes go forwards, odd passes
@@ -301,8 +301,8 @@ void World<T>::solve_contacts() {
 
 template <class T>
 void World<T>::correct_positions() {
-  corrected_from_.resize(bodies_.size());
-  for (std::size_t i = 0; i < bodies_.size(); ++i) corrected_from_[i] = bodies_[i].p;
+  scratch_.corrected_from.resize(bodies_.size());
+  for (std::size_t i = 0; i < bodies_.size(); ++i) scratch_.corrected_from[i] = bodies_[i].p;
   // One correction (eqs 63, 89) of contact c, its penetration less what this
   // stage has already moved its two sides apart along n. A bouncing contact
   // (e_eff > 0, eq 76) is not corrected: its rebound separates it, and pushing
@@ -335,17 +335,17 @@ void World<T>::correct_positions() {
     Body<T>* B = c.b >= 0 ? &bodies_[static_cast<std::size_t>(c.b)] : nullptr;
     T inv_b = (B != nullptr && B->awake()) ? B->inv_mass : T{};
     if (inv_a == T{} && inv_b == T{}) return;
-    if (B != nullptr && oriented_correction_) {  // eq 110 (physics/contact.hpp, shared with the GPU engine)
-      manifold_correction(A.p, corrected_from_[static_cast<std::size_t>(c.a)], B->p,
-                          corrected_from_[static_cast<std::size_t>(c.b)], c.n, c.correct_depth, inv_a, inv_b,
+    if (B != nullptr && scratch_.oriented_correction) {  // eq 110 (physics/contact.hpp, shared with the GPU engine)
+      manifold_correction(A.p, scratch_.corrected_from[static_cast<std::size_t>(c.a)], B->p,
+                          scratch_.corrected_from[static_cast<std::size_t>(c.b)], c.n, c.correct_depth, inv_a, inv_b,
                           lower_fixed, P_.slop, P_.baumgarte);
       ++counters_.corrections;
       check_faults(c.a, "position correction");
       return;
     }
     Vec3<T>& pb = B != nullptr ? B->p : ground_p;
-    Vec3<T> moved = A.p - corrected_from_[static_cast<std::size_t>(c.a)];
-    if (B != nullptr) moved -= B->p - corrected_from_[static_cast<std::size_t>(c.b)];
+    Vec3<T> moved = A.p - scratch_.corrected_from[static_cast<std::size_t>(c.a)];
+    if (B != nullptr) moved -= B->p - scratch_.corrected_from[static_cast<std::size_t>(c.b)];
     const T pen = B != nullptr ? c.penetration : c.penetration - dot(moved, c.n);  // pairs: the AABB model's eq 89
     baumgarte_correction(A.p, pb, c.n, pen, inv_a, inv_b, P_.slop, P_.baumgarte);  // eqs 63, 89
     ++counters_.corrections;
@@ -357,7 +357,7 @@ void World<T>::correct_positions() {
     // penetration less what the pairs already moved the body along its normal.
     // The world has the last word: a light body under a heavy one is not left
     // pushed into the ground by the pair's share of the correction.
-    oriented_correction_ = false;
+    scratch_.oriented_correction = false;
     for (int pass = 0; pass < 2; ++pass)
       for (const Contact<T>& c : contacts_)
         if ((c.b >= 0) == (pass == 0)) correct(c, false);
@@ -372,36 +372,36 @@ void World<T>::correct_positions() {
   // (with the mass split of eq 89 each pair pushed the cube under it down
   // again, and 20-high columns ended 8 mm deep at every contact); other
   // pairs split by inverse mass as eq 89.
-  oriented_correction_ = true;
-  order_.clear();
+  scratch_.oriented_correction = true;
+  scratch_.order.clear();
   for (std::size_t ci = 0; ci < contacts_.size(); ++ci) {
     const Contact<T>& c = contacts_[ci];
     if (c.b < 0) { correct(c, false); continue; }
-    if (c.corrects) order_.push_back(static_cast<int>(ci));
+    if (c.corrects) scratch_.order.push_back(static_cast<int>(ci));
   }
   auto lower_y = [&](int ci) {
     const Contact<T>& c = contacts_[static_cast<std::size_t>(ci)];
-    const T ya = corrected_from_[static_cast<std::size_t>(c.a)].y, yb = corrected_from_[static_cast<std::size_t>(c.b)].y;
+    const T ya = scratch_.corrected_from[static_cast<std::size_t>(c.a)].y, yb = scratch_.corrected_from[static_cast<std::size_t>(c.b)].y;
     return Num<T>::min(ya, yb);
   };
-  std::sort(order_.begin(), order_.end(), [&](int x, int y) {
+  std::sort(scratch_.order.begin(), scratch_.order.end(), [&](int x, int y) {
     return settles_before(lower_y(x), x, lower_y(y), y);
   });
-  for (int ci : order_) {
+  for (int ci : scratch_.order) {
     const Contact<T>& c = contacts_[static_cast<std::size_t>(ci)];
     correct(c, is_support_pair(c.n, P_.support_normal_min));
   }
   // eq 111: then every point of each pair, in the same order, pushed out of
   // what it still penetrates by turning as well as moving its sides.
-  if (order_.empty()) return;
-  turn_.assign(bodies_.size(), Vec3<T>{});
-  for (int ci : order_) {
+  if (scratch_.order.empty()) return;
+  scratch_.turn.assign(bodies_.size(), Vec3<T>{});
+  for (int ci : scratch_.order) {
     const Contact<T>& c = contacts_[static_cast<std::size_t>(ci)];
     const auto ia = static_cast<std::size_t>(c.a), ib = static_cast<std::size_t>(c.b);
     Body<T>& A = bodies_[ia];
     Body<T>& B = bodies_[ib];
-    BodyView<T> va{A.p - corrected_from_[ia], turn_[ia], A.awake() ? A.inv_mass : T{}, A.R, A.awake() ? A.inv_inertia : Vec3<T>{}};
-    BodyView<T> vb{B.p - corrected_from_[ib], turn_[ib], B.awake() ? B.inv_mass : T{}, B.R, B.awake() ? B.inv_inertia : Vec3<T>{}};
+    BodyView<T> va{A.p - scratch_.corrected_from[ia], scratch_.turn[ia], A.awake() ? A.inv_mass : T{}, A.R, A.awake() ? A.inv_inertia : Vec3<T>{}};
+    BodyView<T> vb{B.p - scratch_.corrected_from[ib], scratch_.turn[ib], B.awake() ? B.inv_mass : T{}, B.R, B.awake() ? B.inv_inertia : Vec3<T>{}};
     if (va.inv_mass == T{} && vb.inv_mass == T{}) continue;
     hold_lower_side(va, vb, c.n, P_.support_normal_min);  // eq 111: only the upper side moves, if it can
     std::size_t lo = static_cast<std::size_t>(ci), hi = lo + 1;
@@ -412,15 +412,15 @@ void World<T>::correct_positions() {
       if (p.state.e > T{}) continue;  // a bouncing point separates by its rebound (eq 89)
       correct_manifold_point(va, p.r1, vb, p.r2, p.n, p.penetration, P_.slop, P_.baumgarte);  // eq 111
     }
-    A.p = corrected_from_[ia] + va.v;
-    B.p = corrected_from_[ib] + vb.v;
-    turn_[ia] = va.w;
-    turn_[ib] = vb.w;
+    A.p = scratch_.corrected_from[ia] + va.v;
+    B.p = scratch_.corrected_from[ib] + vb.v;
+    scratch_.turn[ia] = va.w;
+    scratch_.turn[ib] = vb.w;
     check_faults(c.a, "position correction");
   }
   const T half = Num<T>::from_double(0.5);
   for (std::size_t i = 0; i < bodies_.size(); ++i)
-    if (!(turn_[i] == Vec3<T>{})) bodies_[i].q = integrate_orientation(bodies_[i].q, turn_[i], half);  // eqs 7-10, a turn
+    if (!(scratch_.turn[i] == Vec3<T>{})) bodies_[i].q = integrate_orientation(bodies_[i].q, scratch_.turn[i], half);  // eqs 7-10, a turn
 }
 
 }  // namespace lockstep

@@ -15,7 +15,7 @@ template <class T>
 void World<T>::narrow_phase() {
   contacts_.clear();
   std::fill(wake_load_.begin(), wake_load_.end(), 0);
-  std::vector<Contact<T>>& pair_contacts = pair_contacts_;
+  std::vector<Contact<T>>& pair_contacts = scratch_.pair_contacts;
   pair_contacts.clear();
   const T half_tol = P_.contact_tolerance * Num<T>::from_double(0.5);
   const T tol = half_tol + half_tol;  // the two growths together
@@ -25,7 +25,7 @@ void World<T>::narrow_phase() {
   // parallel on the world's threads (each a function of its two bodies
   // alone), then their contacts appended in pair order.
   if (oriented) {
-    pair_manifolds_.resize(pairs_.size());
+    scratch_.pair_manifolds.resize(pairs_.size());
     parallel_for(pairs_.size(), 64, [&](std::size_t k, int) {
       const auto [i, j] = pairs_[k];
       const Body<T>& A = bodies_[static_cast<std::size_t>(i)];
@@ -33,7 +33,7 @@ void World<T>::narrow_phase() {
       // the grown AABBs (reach included) as the early-out, then up to 4
       // points with one normal within contact_tolerance plus both reaches
       const T ga = grow_[static_cast<std::size_t>(i)], gb = grow_[static_cast<std::size_t>(j)];
-      BoxManifold<T>& m = pair_manifolds_[k];
+      BoxManifold<T>& m = scratch_.pair_manifolds[k];
       if (!aabb_overlap(A.p, A.aabb_half + Vec3<T>{ga, ga, ga}, B.p, B.aabb_half + Vec3<T>{gb, gb, gb}).hit) {
         m.count = 0;
         return;
@@ -51,7 +51,7 @@ void World<T>::narrow_phase() {
     if (oriented) {
       // only the deepest point (first on ties) carries the pair's position
       // correction (eq 89), as on the ground
-      const BoxManifold<T>& m = pair_manifolds_[pk];
+      const BoxManifold<T>& m = scratch_.pair_manifolds[pk];
       const auto first = pair_contacts.size();
       for (int k = 0; k < m.count; ++k) {
         Contact<T> c;
@@ -124,8 +124,8 @@ void World<T>::narrow_phase() {
       check_faults(static_cast<int>(i), "ground contact");
     }
     if (scene_.effects.sdf) {
-      for (std::size_t k = 0; k < sdfs_.size(); ++k) {
-        const SdfGrid<T>& g = sdfs_[k];
+      for (std::size_t k = 0; k < sdf_.grids.size(); ++k) {
+        const SdfGrid<T>& g = sdf_.grids[k];
         // eq 93: sample the 8 corners (radius 0) and the centre (radius min h);
         // as on the ground (eq 84), every penetrating sample is a contact point
         // with its own normal, and only the deepest carries the correction.
@@ -172,9 +172,9 @@ void World<T>::narrow_phase() {
   // normal (within support_fade: a corner it would fall onto within a frame
   // holds it as one it touches), how many, and whether it also touches something (within slop)
   // that is not a support: a neighbour beside it, a body above it.
-  support_arms_.resize(bodies_.size());
-  n_arms_.assign(bodies_.size(), 0);
-  std::vector<int>& n_arms = n_arms_;
+  scratch_.support_arms.resize(bodies_.size());
+  scratch_.n_arms.assign(bodies_.size(), 0);
+  std::vector<int>& n_arms = scratch_.n_arms;
   std::vector<char> loaded(bodies_.size(), 0);
   auto add_support = [&](int body, std::size_t ci, const Vec3<T>& n) {  // eqs 75, 98, 112
     const auto i = static_cast<std::size_t>(body);
@@ -185,7 +185,7 @@ void World<T>::narrow_phase() {
       const Body<T>& B = bodies_[static_cast<std::size_t>(cc.b)];
       return contact_closing_speed(A.v, A.w, A.p, B.v, B.w, B.p, cc.point, cc.n);
     };
-    if (add_support_contact(support_n_[i], support_arms_[i].data(), n_arms[i], support_gap_[i], support_[i] >= 0, n,
+    if (add_support_contact(support_n_[i], scratch_.support_arms[i].data(), n_arms[i], support_gap_[i], support_[i] >= 0, n,
                             cc.penetration, cc.point - bodies_[i].p, v_n, P_) &&
         support_[i] < 0)
       support_[i] = static_cast<int>(ci);
@@ -202,16 +202,16 @@ void World<T>::narrow_phase() {
   }
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     if (support_[i] >= 0) support_n_[i] = normalize(support_n_[i]);
-    const Stance st = stance_of(support_arms_[i].data(), n_arms[i], support_[i] >= 0, loaded[i] != 0, bodies_[i].w, P_);
+    const Stance st = stance_of(scratch_.support_arms[i].data(), n_arms[i], support_[i] >= 0, loaded[i] != 0, bodies_[i].w, P_);
     over_support_[i] = st.over;              // eq 112
     leaning_[i] = oriented && st.leans ? 1 : 0;  // eq 115
   }
   // Stage 6's order (settle() walks it): the supported awake bodies, lowest
   // first (ties: index). Nothing before stage 6 moves or wakes a body.
-  settle_order_.clear();
+  scratch_.settle_order.clear();
   for (std::size_t i = 0; i < bodies_.size(); ++i)
-    if (bodies_[i].awake() && support_[i] >= 0) settle_order_.push_back(static_cast<int>(i));
-  std::sort(settle_order_.begin(), settle_order_.end(), [&](int a, int b) {
+    if (bodies_[i].awake() && support_[i] >= 0) scratch_.settle_order.push_back(static_cast<int>(i));
+  std::sort(scratch_.settle_order.begin(), scratch_.settle_order.end(), [&](int a, int b) {
     return settles_before(bodies_[static_cast<std::size_t>(a)].p.y, a, bodies_[static_cast<std::size_t>(b)].p.y, b);
   });
   // eq 116: friction holds it on its first support contact's friction (eq 58),
@@ -222,7 +222,7 @@ void World<T>::narrow_phase() {
                     : (idx == -1 ? ground_mu_ : sdf_mu_[static_cast<std::size_t>(-2 - idx)]);
   };
   std::fill(can_rest_.begin(), can_rest_.end(), 1);
-  for (const int idx : settle_order_) {
+  for (const int idx : scratch_.settle_order) {
     const auto i = static_cast<std::size_t>(idx);
     const Contact<T>& c = contacts_[static_cast<std::size_t>(support_[i])];
     const T mu = scene_.effects.friction ? combined_friction(material_mu(c.a), material_mu(c.b)) : T{};
@@ -237,59 +237,59 @@ void World<T>::narrow_phase() {
   // children first), its children in ascending index; a body whose load's
   // centre is not over its support tips with its load: it does not settle
   // and cannot rest, unless something holds it (eq 112).
-  load_parent_.assign(bodies_.size(), kLoadNone);
+  scratch_.load_parent.assign(bodies_.size(), kLoadNone);
   for (const Contact<T>& c : contacts_) {
     if (!(c.penetration > -P_.slop)) continue;
     if (c.n.y >= P_.support_normal_min) {
       const bool movable = c.b >= 0 && !bodies_[static_cast<std::size_t>(c.b)].is_static;
-      int& s = load_parent_[static_cast<std::size_t>(c.a)];
+      int& s = scratch_.load_parent[static_cast<std::size_t>(c.a)];
       s = fold_load_parent(s, movable ? c.b : kLoadMany);
     }
     if (c.b >= 0 && -c.n.y >= P_.support_normal_min) {
-      int& s = load_parent_[static_cast<std::size_t>(c.b)];
+      int& s = scratch_.load_parent[static_cast<std::size_t>(c.b)];
       s = fold_load_parent(s, !bodies_[static_cast<std::size_t>(c.a)].is_static ? c.a : kLoadMany);
     }
   }
   for (std::size_t i = 0; i < bodies_.size(); ++i) {  // a load parent settles before its child (no cycle)
-    int& s = load_parent_[i];
+    int& s = scratch_.load_parent[i];
     if (s >= 0 && !settles_before(bodies_[static_cast<std::size_t>(s)].p.y, s, bodies_[i].p.y, static_cast<int>(i)))
       s = kLoadNone;
   }
-  load_children_.clear();
-  sleeper_children_.clear();
-  for (const int idx : settle_order_) {
-    const int s = sleeper_load_parent(true, load_parent_[static_cast<std::size_t>(idx)], kLoadNone);
+  scratch_.load_children.clear();
+  scratch_.sleeper_children.clear();
+  for (const int idx : scratch_.settle_order) {
+    const int s = sleeper_load_parent(true, scratch_.load_parent[static_cast<std::size_t>(idx)], kLoadNone);
     if (s < 0) continue;
-    (bodies_[static_cast<std::size_t>(s)].asleep ? sleeper_children_ : load_children_).emplace_back(s, idx);
+    (bodies_[static_cast<std::size_t>(s)].asleep ? scratch_.sleeper_children : scratch_.load_children).emplace_back(s, idx);
   }
-  if (!load_children_.empty() || !sleeper_children_.empty()) {
-    std::sort(load_children_.begin(), load_children_.end());
-    load_mass_.resize(bodies_.size());
-    load_offset_.resize(bodies_.size());
-    load_tips_.resize(bodies_.size());
+  if (!scratch_.load_children.empty() || !scratch_.sleeper_children.empty()) {
+    std::sort(scratch_.load_children.begin(), scratch_.load_children.end());
+    scratch_.load_mass.resize(bodies_.size());
+    scratch_.load_offset.resize(bodies_.size());
+    scratch_.load_tips.resize(bodies_.size());
     const T one = Num<T>::from_int(1);
-    for (auto it = settle_order_.rbegin(); it != settle_order_.rend(); ++it) {
+    for (auto it = scratch_.settle_order.rbegin(); it != scratch_.settle_order.rend(); ++it) {
       const int idx = *it;
       const auto i = static_cast<std::size_t>(idx);
-      const auto [first, last] = form_load(idx, load_children_);
+      const auto [first, last] = form_load(idx, scratch_.load_children);
       check_faults(idx, "load (eq 117)");
       const bool carries = first != last;
       bool child_tips = false;
-      for (auto c = first; c != last; ++c) child_tips = child_tips || load_tips_[static_cast<std::size_t>(c->second)] != 0;
+      for (auto c = first; c != last; ++c) child_tips = child_tips || scratch_.load_tips[static_cast<std::size_t>(c->second)] != 0;
       // no load children, or held: eq 112's answer stands
       if (carries && loaded[i] == 0 &&
-          !load_over_support(support_arms_[i].data(), n_arms[i], load_offset_[i], Vec3<T>{T{}, one, T{}},
+          !load_over_support(scratch_.support_arms[i].data(), n_arms[i], scratch_.load_offset[i], Vec3<T>{T{}, one, T{}},
                              length(bodies_[i].w) < P_.sleep_angular)) {
         over_support_[i] = 0;
         can_rest_[i] = 0;
       }
       if (!load_rests(child_tips)) can_rest_[i] = 0;
-      load_tips_[i] = load_tips(over_support_[i] != 0, child_tips) ? 1 : 0;
+      scratch_.load_tips[i] = load_tips(over_support_[i] != 0, child_tips) ? 1 : 0;
     }
-    if (!sleeper_children_.empty()) sleeper_loads();
+    if (!scratch_.sleeper_children.empty()) sleeper_loads();
   }
   // eq 112's chain, in that order: a body riding on a body that tips tips too.
-  for (const int idx : settle_order_) {
+  for (const int idx : scratch_.settle_order) {
     const auto i = static_cast<std::size_t>(idx);
     const Contact<T>& c = contacts_[static_cast<std::size_t>(support_[i])];  // the first support
     const int s = c.a == idx ? c.b : c.a;
@@ -300,7 +300,7 @@ void World<T>::narrow_phase() {
   }
 }
 
-// eq 117: body idx's load (load_mass_, load_offset_) from its children in
+// eq 117: body idx's load (scratch_.load_mass, scratch_.load_offset) from its children in
 // `children` ((parent, child), sorted), whose loads are formed; returns its
 // children's range there.
 template <class T>
@@ -313,14 +313,14 @@ auto World<T>::form_load(int idx, const LoadChildren& children)
   auto each_child = [&](auto&& f) {
     for (auto c = first; c != last; ++c) {
       const auto j = static_cast<std::size_t>(c->second);
-      f(load_mass_[j], bodies_[j].p, load_offset_[j]);
+      f(scratch_.load_mass[j], bodies_[j].p, scratch_.load_offset[j]);
     }
   };
-  sum_load(bodies_[i].inv_mass, bodies_[i].p, each_child, load_mass_[i], load_offset_[i]);  // eq 117
+  sum_load(bodies_[i].inv_mass, bodies_[i].p, each_child, scratch_.load_mass[i], scratch_.load_offset[i]);  // eq 117
   return {first, last};
 }
 
-// eq 124: with an awake body resting on a sleeper (sleeper_children_ holds
+// eq 124: with an awake body resting on a sleeper (scratch_.sleeper_children holds
 // those), the sleepers' loads: their sleeping children join, each sleeper's
 // load is formed from the top down (descending stage 6 order), and a sleeper
 // whose load's centre is not over its recorded support points wakes at the
@@ -334,22 +334,22 @@ void World<T>::sleeper_loads() {
     if (!bodies_[j].asleep) continue;
     const int s = sleeper_load_parent(false, kLoadNone, sleep_support_[j].parent);
     if (s >= 0 && bodies_[static_cast<std::size_t>(s)].asleep && before(s, static_cast<int>(j)))
-      sleeper_children_.emplace_back(s, static_cast<int>(j));
+      scratch_.sleeper_children.emplace_back(s, static_cast<int>(j));
   }
-  std::sort(sleeper_children_.begin(), sleeper_children_.end());
-  sleeper_loads_.clear();
-  for (const auto& [s, c] : sleeper_children_) {
-    sleeper_loads_.push_back(s);
-    if (bodies_[static_cast<std::size_t>(c)].asleep) sleeper_loads_.push_back(c);
+  std::sort(scratch_.sleeper_children.begin(), scratch_.sleeper_children.end());
+  scratch_.sleeper_loads.clear();
+  for (const auto& [s, c] : scratch_.sleeper_children) {
+    scratch_.sleeper_loads.push_back(s);
+    if (bodies_[static_cast<std::size_t>(c)].asleep) scratch_.sleeper_loads.push_back(c);
   }
-  std::sort(sleeper_loads_.begin(), sleeper_loads_.end(), [&](int a, int b) { return before(b, a); });
-  sleeper_loads_.erase(std::unique(sleeper_loads_.begin(), sleeper_loads_.end()), sleeper_loads_.end());
-  for (const int idx : sleeper_loads_) {
-    const auto [first, last] = form_load(idx, sleeper_children_);
+  std::sort(scratch_.sleeper_loads.begin(), scratch_.sleeper_loads.end(), [&](int a, int b) { return before(b, a); });
+  scratch_.sleeper_loads.erase(std::unique(scratch_.sleeper_loads.begin(), scratch_.sleeper_loads.end()), scratch_.sleeper_loads.end());
+  for (const int idx : scratch_.sleeper_loads) {
+    const auto [first, last] = form_load(idx, scratch_.sleeper_children);
     const bool carries = first != last;
     check_faults(idx, "sleeper load (eq 124)");
     const SleepSupport& rec = sleep_support_[static_cast<std::size_t>(idx)];
-    if (carries && !sleeper_load_over_support(rec.arms.data(), rec.count, load_offset_[static_cast<std::size_t>(idx)]))
+    if (carries && !sleeper_load_over_support(rec.arms.data(), rec.count, scratch_.load_offset[static_cast<std::size_t>(idx)]))
       wake_load_[static_cast<std::size_t>(idx)] = 1;
   }
 }

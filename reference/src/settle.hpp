@@ -14,14 +14,14 @@ Vec3<T> World<T>::support_normal(std::size_t i) const { return support_n_[i]; }
 template <class T>
 void World<T>::settle() {
   // Supported awake bodies, lowest first (ties: index; narrow_phase's
-  // settle_order_), so that eq 75 sees a supporting body's final velocity
+  // scratch_.settle_order), so that eq 75 sees a supporting body's final velocity
   // before the body it supports.
   const bool oriented = scene_.pair_contacts == PairModel::kOrientedBox;
   if (oriented) {  // eqs 72-74 on a movable support: the spin relative to the support's, as the solver left it
-    w_solved_.resize(bodies_.size());
-    for (std::size_t k = 0; k < bodies_.size(); ++k) w_solved_[k] = bodies_[k].w;
+    scratch_.w_solved.resize(bodies_.size());
+    for (std::size_t k = 0; k < bodies_.size(); ++k) scratch_.w_solved[k] = bodies_[k].w;
   }
-  for (int idx : settle_order_) {
+  for (int idx : scratch_.settle_order) {
     const auto i = static_cast<std::size_t>(idx);
     Body<T>& b = bodies_[i];
     if (oriented && !over_support_[i]) continue;  // eq 112: it tips; settling would hold it back
@@ -35,7 +35,7 @@ void World<T>::settle() {
     // spin (eqs 72-74) relative to a movable support's; the AABB model as the source.
     const T speed = settle_linear_velocity(b.v, v_support, n, support_gap_[i], P_, oriented,
                                            settle_limit_[i]);  // eqs 75, 77, 116
-    b.w = settle_spin(b.w, oriented && movable, [&] { return w_solved_[static_cast<std::size_t>(other)]; }, b.R, n,
+    b.w = settle_spin(b.w, oriented && movable, [&] { return scratch_.w_solved[static_cast<std::size_t>(other)]; }, b.R, n,
                       speed, leaning_[i] != 0, P_);  // eqs 64-74, 115, up = support normal
     check_faults(idx, "settling");
   }

@@ -87,10 +87,10 @@ void World<T>::record_supports(std::size_t i) {
   // oriented-box model: the source's AABB model forms no loads).
   if (scene_.pair_contacts != PairModel::kOrientedBox) return;
   SleepSupport& rec = sleep_support_[i];
-  rec.parent = load_parent_[i];
-  rec.count = n_arms_[i];
+  rec.parent = scratch_.load_parent[i];
+  rec.count = scratch_.n_arms[i];
   for (int k = 0; k < rec.count && k < kMaxSupportPoints; ++k)
-    rec.arms[static_cast<std::size_t>(k)] = horizontal(support_arms_[i][static_cast<std::size_t>(k)]);
+    rec.arms[static_cast<std::size_t>(k)] = horizontal(scratch_.support_arms[i][static_cast<std::size_t>(k)]);
 }
 
 // eq 124: the sleepers whose load left their support this frame wake, in
@@ -113,7 +113,7 @@ void World<T>::update_sleep() {
   // 80); with the oriented-box model it is ready but stays drowsy until eq
   // 109 lets it sleep.
   const bool oriented = scene_.pair_contacts == PairModel::kOrientedBox;
-  std::vector<int>& ready = order_;
+  std::vector<int>& ready = scratch_.order;
   ready.clear();
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     Body<T>& b = bodies_[i];
@@ -145,7 +145,7 @@ void World<T>::update_sleep() {
     return settles_before(bodies_[static_cast<std::size_t>(a)].p.y, a, bodies_[static_cast<std::size_t>(b)].p.y, b);
   });
   // (supported body, dynamic supporter) of every touching body-pair support contact.
-  std::vector<std::pair<int, int>>& rests_on = rests_on_;
+  std::vector<std::pair<int, int>>& rests_on = scratch_.rests_on;
   rests_on.clear();
   for (const Contact<T>& c : contacts_) {
     if (c.b < 0) continue;

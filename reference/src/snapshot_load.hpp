@@ -116,7 +116,7 @@ void World<T>::read_moving_state(snap::Reader& r, std::uint32_t frame, bool deri
   const std::uint64_t count = r.varint("warm.count");
   if (count > r.left() / 4) refuse("warm.count", std::to_string(count) + " cached impulses cannot fit in the bytes left");
   warm_.resize(static_cast<std::size_t>(count));
-  const std::int64_t sdfs = static_cast<std::int64_t>(sdfs_.size());
+  const std::int64_t sdfs = static_cast<std::int64_t>(sdf_.grids.size());
   std::int64_t a = 0;
   for (std::size_t k = 0; k < warm_.size(); ++k) {
     const std::string field = "warm[" + std::to_string(k) + "]";
@@ -249,7 +249,7 @@ void World<T>::restore_state(const std::uint8_t* data, std::size_t size) {
     read_moving_state(r, info.frame, true);
     return;
   }
-  const int threads = threads_;  // the world's threads are not state: kept
+  const int threads = workers_.threads;  // the world's threads are not state: kept
   *this = load_state(data, size);
   set_threads(threads);
 }

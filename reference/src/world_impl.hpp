@@ -80,18 +80,18 @@ World<T>::World(const Scene& scene)
     std::vector<T> values;
     values.reserve(d.values.size());
     for (double v : d.values) values.push_back(n(v));
-    sdf_values_.push_back(std::move(values));
+    sdf_.values.push_back(std::move(values));
     SdfGrid<T> g;
     g.min = world_detail::to_vec<T>(d.min);
     g.max = world_detail::to_vec<T>(d.max);
     g.n[0] = d.nx; g.n[1] = d.ny; g.n[2] = d.nz;
     set_grid_spacing(g);  // eq 32
-    sdfs_.push_back(g);
+    sdf_.grids.push_back(g);
     sdf_e_.push_back(n(d.material.restitution));
     sdf_mu_.push_back(n(d.material.friction));
     check_faults(-1, "SDF volume");
   }
-  for (std::size_t k = 0; k < sdfs_.size(); ++k) sdfs_[k].values = sdf_values_[k].data();
+  for (std::size_t k = 0; k < sdf_.grids.size(); ++k) sdf_.grids[k].values = sdf_.values[k].data();
   support_.assign(bodies_.size(), -1);
   rests_.assign(bodies_.size(), {});
   support_n_.assign(bodies_.size(), Vec3<T>{});
@@ -104,47 +104,6 @@ World<T>::World(const Scene& scene)
   wake_load_.assign(bodies_.size(), 0);
   // The id table: body i in slot i, generation 0 (docs/SPEC.md "Run-time inputs").
   ids_.reset(bodies_.size());
-}
-
-template <class T>
-World<T>::World(const World& other) { *this = other; }
-
-template <class T>
-World<T>& World<T>::operator=(const World& other) {
-  if (this == &other) return *this;
-  scene_ = other.scene_;
-  scene_section_ = other.scene_section_;
-  constants_hash_ = other.constants_hash_;
-  P_ = other.P_;
-  bodies_ = other.bodies_;
-  sdf_values_ = other.sdf_values_;
-  sdfs_ = other.sdfs_;
-  for (std::size_t k = 0; k < sdfs_.size(); ++k) sdfs_[k].values = sdf_values_[k].data();
-  pairs_ = other.pairs_;
-  grow_ = other.grow_;
-  contacts_ = other.contacts_;
-  warm_ = other.warm_;
-  support_ = other.support_;
-  rests_ = other.rests_;
-  support_n_ = other.support_n_;
-  support_gap_ = other.support_gap_;
-  over_support_ = other.over_support_;
-  leaning_ = other.leaning_;
-  settle_limit_ = other.settle_limit_;
-  can_rest_ = other.can_rest_;
-  sleep_support_ = other.sleep_support_;
-  wake_load_ = other.wake_load_;
-  ground_y_ = other.ground_y_;
-  ground_e_ = other.ground_e_;
-  ground_mu_ = other.ground_mu_;
-  sdf_e_ = other.sdf_e_;
-  sdf_mu_ = other.sdf_mu_;
-  counters_ = other.counters_;
-  frame_ = other.frame_;
-  set_threads(other.threads_);  // the same count, its own threads (made when first needed)
-  ids_ = other.ids_;
-  forces_ = other.forces_;
-  return *this;
 }
 
 // docs/SPEC.md 7.2: the order of operations in a frame.
@@ -185,8 +144,8 @@ void World<T>::set_threads(int threads) {
   if (threads < 1 || threads > 256)
     throw std::invalid_argument("threads = " + std::to_string(threads) +
                                 ": World<T>::set_threads needs 1 to 256 threads (1: the caller's alone)");
-  if (threads != threads_) pool_.reset();
-  threads_ = threads;
+  if (threads != workers_.threads) workers_.pool.reset();
+  workers_.threads = threads;
 }
 
 template <class T>
@@ -194,18 +153,18 @@ template <class Body>
 void World<T>::parallel_for(std::size_t count, std::size_t grain, const Body& body) {
   // Contiguous ranges of at least `grain` items, at most one per thread; the
   // work each item does never depends on the range it falls in.
-  const std::size_t parts = std::min<std::size_t>(static_cast<std::size_t>(threads_), count / std::max<std::size_t>(grain, 1));
+  const std::size_t parts = std::min<std::size_t>(static_cast<std::size_t>(workers_.threads), count / std::max<std::size_t>(grain, 1));
   if (parts <= 1) {
     for (std::size_t k = 0; k < count; ++k) body(k, 0);
     return;
   }
-  if (!pool_ || pool_->size() != threads_) pool_ = std::make_shared<ThreadPool>(threads_);
+  if (!workers_.pool || workers_.pool->size() != workers_.threads) workers_.pool = std::make_shared<ThreadPool>(workers_.threads);
   // A part stops at its first RunError; the lowest item's is rethrown, the
   // one a single thread would have met first.
-  std::array<std::size_t, 256> failed;  // parts <= threads_ <= 256 (set_threads)
+  std::array<std::size_t, 256> failed;  // parts <= threads <= 256 (set_threads)
   std::array<std::exception_ptr, 256> errors;
   failed.fill(count);
-  pool_->run(static_cast<int>(parts), [&](int part) {
+  workers_.pool->run(static_cast<int>(parts), [&](int part) {
     const std::size_t lo = count * static_cast<std::size_t>(part) / parts;
     const std::size_t hi = count * static_cast<std::size_t>(part + 1) / parts;
     Num<T>::take_faults();  // this thread's: none left from an earlier region

@@ -144,9 +144,10 @@ class World {
   // (frame 0) when a body's derived quantities (inertia, ...) overflow T.
   explicit World(const Scene& scene);
   // Copying a world saves its whole state; assigning restores it (the SDF
-  // views are re-pointed at the copy's own samples).
-  World(const World& other);
-  World& operator=(const World& other);
+  // views are re-pointed at the copy's own samples; the frame's scratch is
+  // not state and is not copied; the copy steps on as many threads).
+  World(const World& other) = default;
+  World& operator=(const World& other) = default;
   // Moving keeps the SDF views valid (the samples' buffers move with them).
   World(World&&) noexcept = default;
   World& operator=(World&&) noexcept = default;
@@ -169,7 +170,7 @@ class World {
   // caller's. Every frame's bits are the same for every count. Throws
   // std::invalid_argument naming the value when threads < 1 or > 256.
   void set_threads(int threads);
-  int threads() const { return threads_; }
+  int threads() const { return workers_.threads; }
   const Scene& scene() const { return scene_; }
   const Params<T>& params() const { return P_; }
   const Effects& effects() const { return scene_.effects; }
@@ -307,8 +308,26 @@ class World {
   std::uint64_t constants_hash_ = 0;
   Params<T> P_;
   std::vector<Body<T>> bodies_;
-  std::vector<std::vector<T>> sdf_values_;
-  std::vector<SdfGrid<T>> sdfs_;
+  // The SDF volumes: each grid's samples (values) and its view of them (grids,
+  // eq 32), re-pointed at the copy's own samples when a world is copied.
+  struct SdfVolumes {
+    std::vector<std::vector<T>> values;
+    std::vector<SdfGrid<T>> grids;
+    SdfVolumes() = default;
+    SdfVolumes(const SdfVolumes& o) : values(o.values), grids(o.grids) { point(); }
+    SdfVolumes& operator=(const SdfVolumes& o) {
+      values = o.values;
+      grids = o.grids;
+      point();
+      return *this;
+    }
+    SdfVolumes(SdfVolumes&&) noexcept = default;  // the samples' buffers move with them
+    SdfVolumes& operator=(SdfVolumes&&) noexcept = default;
+    void point() {
+      for (std::size_t k = 0; k < grids.size(); ++k) grids[k].values = values[k].data();
+    }
+  };
+  SdfVolumes sdf_;
   std::vector<std::pair<int, int>> pairs_;
   std::vector<T> grow_;               // per body: its AABB growth this frame, half_tol + speculative reach (eqs 97, 107)
   std::vector<Contact<T>> contacts_;
@@ -320,22 +339,12 @@ class World {
   struct Rest { int body; Vec3<T> local, rest, last; };  // eq 108: last, where the point was at the frame's start
   std::vector<std::vector<Rest>> rests_;
   std::vector<int> support_;          // per body: index of its first support contact, -1 if none
-  std::vector<std::pair<int, int>> rests_on_;  // stage 9 scratch: (body, dynamic body it rests on), sorted (eq 109)
   std::vector<Vec3<T>> support_n_;    // per body: its support normal (4.1), zero if none
   std::vector<T> support_gap_;        // per body: its support gap (75), the smallest gap of its supports
-  std::vector<int> settle_order_;     // narrow_phase: awake supported bodies in stage 6's order (settle, eq 112's chain)
   std::vector<char> leaning_;         // per body: it leans on what holds it beyond its support (eq 115)
   std::vector<char> over_support_;    // per body: eq 112 lets it settle (its centre of mass is over its support contacts, or it is held by more)
-  std::vector<Vec3<T>> w_solved_;     // stage 6 scratch: per body, its angular velocity as the solver left it (eqs 72-74)
   std::vector<T> settle_limit_;       // per body: eq 77 damps a relative speed up to this (m/s, eq 116)
   std::vector<char> can_rest_;        // per body: statics lets it rest (eqs 116, 117): a sleep candidate (78) only then
-  std::vector<int> load_parent_;      // stage 3 scratch: per body, its load parent (eq 117) or kLoadNone
-  std::vector<std::pair<int, int>> load_children_;  // stage 3 scratch: (load parent, child), sorted (eq 117)
-  std::vector<T> load_mass_;          // stage 3 scratch: per body, its load's mass (kg, eq 117)
-  std::vector<Vec3<T>> load_offset_;  // stage 3 scratch: per body, its load's centre less its own (m, eq 117)
-  std::vector<char> load_tips_;       // stage 3 scratch: per body, something in its load tips (eq 117)
-  std::vector<std::array<Vec3<T>, kMaxSupportPoints>> support_arms_;  // stage 3 scratch: per body, its support contacts' lever arms (eq 112)
-  std::vector<int> n_arms_;           // stage 3 scratch: per body, how many (kMaxSupportPoints + 1: too many to look at)
   // eq 124: what a body recorded as it fell asleep (read only while it sleeps):
   // its load parent and its support points' lever arms (horizontal parts).
   struct SleepSupport {
@@ -344,12 +353,7 @@ class World {
     std::array<Vec3<T>, kMaxSupportPoints> arms{};
   };
   std::vector<SleepSupport> sleep_support_;
-  std::vector<std::pair<int, int>> sleeper_children_;  // stage 3 scratch: (sleeping parent, child), sorted (eq 124)
-  std::vector<int> sleeper_loads_;    // stage 3 scratch: the sleepers whose load eq 124 forms, top down
   std::vector<char> wake_load_;       // per body: eq 124 wakes it at the end of this frame (stage 3 to 9)
-  std::vector<Vec3<T>> corrected_from_;  // per body: its position before this frame's correction (eq 89 order)
-  std::vector<int> order_;            // eq 110: the pair contacts that correct, bottom up
-  std::vector<Vec3<T>> turn_;         // eq 111: per body, the turn (rad) this frame's correction gave it
   // Stage 2 scratch (broad_phase.hpp): per body its cells and x extent, the
   // (cell, body) entries, the bodies too large for the grid, one cell's members.
   struct BroadCell { int x, y, z; };
@@ -360,45 +364,86 @@ class World {
     std::vector<BroadEntry> entries;
     std::vector<int> large, members;
   };
-  BroadScratch broad_;
-  // Stage 3-4 scratch (narrow_phase.hpp): this frame's body-pair contacts.
-  std::vector<Contact<T>> pair_contacts_;
-  std::vector<BoxManifold<T>> pair_manifolds_;  // per pair of pairs_: its manifold (eqs 100-106; count 0: none)
-  // Stage 5 scratch (contact_solver.hpp): the visits, as [begin, end) in
-  // contacts_; per body, how many visits of this solve changed its velocity;
-  // per visit, whether its last visit applied no impulse, and the versions of
-  // its sides' velocities after it.
-  // A visit's last outcome: whether it applied no impulse (and the sides'
-  // velocity versions then), whether it changed them by less than
+  // A solver visit's last outcome: whether it applied no impulse (and the
+  // sides' velocity versions then), whether it changed them by less than
   // converged_speed, and the sides' velocities it left (eq 113).
   struct IdleVisit {
     bool idle = false, small = false;
     unsigned version_a = 0, version_b = 0, solver_contacts = 0;
     Vec3<T> va, wa, vb, wb;
   };
-  std::vector<std::pair<std::size_t, std::size_t>> visits_;
-  std::vector<unsigned> velocity_version_;
-  std::vector<IdleVisit> idle_visits_;
-  std::vector<T> visit_split_;  // per visit: eq 99's split (manifold_split), formed once per solve
-  // The solver's order (eqs 125-127, physics/solve_order.hpp): per awake body
-  // its visits of immovable things ([body_visit_begin_[i], [i + 1]) in
-  // body_visits_), the edges (visits of two awake bodies) by colour
-  // ([colour_begin_[c], [c + 1]) in colour_visits_), and the awake bodies
-  // with any visit of their own.
-  std::vector<int> body_visit_begin_, body_visits_, visit_bodies_;
-  std::vector<int> colour_begin_, colour_visits_;
-  struct SolveEdge { EdgeKey key; int visit; };
-  std::vector<SolveEdge> edges_;
-  std::vector<int> colour_top_;  // per body: the largest colour of its edges so far (eq 127)
-  std::vector<std::pair<std::uint64_t, int>> own_visits_;  // (body << 32 | other + 1, visit), sorted
-  T band_inv_{};                 // eq 125's 1 / band, from the bodies awake after stage 2a
-  bool oriented_correction_ = false;  // eq 110's penetration (less what the stage moved) for pairs too
+  struct SolveEdge { EdgeKey key; int visit; };  // eq 126's key of an edge, and its visit
+  // The frame's scratch (not state: each stage writes what it reads within
+  // the frame, so a copy of a world starts with none, and a snapshot holds
+  // none), handed to every stage as scratch_:
+  // - stage 2 (broad_phase.hpp): broad, the grid's cells and entries;
+  // - stages 3-4 (narrow_phase.hpp): the body-pair contacts and manifolds,
+  //   the supports' lever arms, eq 117's and eq 124's loads, stage 6's order;
+  // - stage 5 (contact_solver.hpp): the visits as [begin, end) in contacts_,
+  //   eq 99's splits, per body how many visits changed its velocity, per
+  //   visit its last outcome; the order of eqs 125-127: per awake body its
+  //   own visits ([body_visit_begin[b], [b + 1]) in body_visits, the body
+  //   visit_bodies[b]), the edges by colour ([colour_begin[c], [c + 1]) in
+  //   colour_visits);
+  // - stage 7 (contact_solver.hpp): eq 110's order and eq 111's turns;
+  // - stage 9 (sleep.hpp): eq 109's rests-on pairs.
+  struct FrameScratch {
+    std::vector<std::pair<int, int>> rests_on;  // stage 9 scratch: (body, dynamic body it rests on), sorted (eq 109)
+    std::vector<int> settle_order;     // narrow_phase: awake supported bodies in stage 6's order (settle, eq 112's chain)
+    std::vector<Vec3<T>> w_solved;     // stage 6 scratch: per body, its angular velocity as the solver left it (eqs 72-74)
+    std::vector<int> load_parent;      // stage 3 scratch: per body, its load parent (eq 117) or kLoadNone
+    std::vector<std::pair<int, int>> load_children;  // stage 3 scratch: (load parent, child), sorted (eq 117)
+    std::vector<T> load_mass;          // stage 3 scratch: per body, its load's mass (kg, eq 117)
+    std::vector<Vec3<T>> load_offset;  // stage 3 scratch: per body, its load's centre less its own (m, eq 117)
+    std::vector<char> load_tips;       // stage 3 scratch: per body, something in its load tips (eq 117)
+    std::vector<std::array<Vec3<T>, kMaxSupportPoints>> support_arms;  // stage 3 scratch: per body, its support contacts' lever arms (eq 112)
+    std::vector<int> n_arms;           // stage 3 scratch: per body, how many (kMaxSupportPoints + 1: too many to look at)
+    std::vector<std::pair<int, int>> sleeper_children;  // stage 3 scratch: (sleeping parent, child), sorted (eq 124)
+    std::vector<int> sleeper_loads;    // stage 3 scratch: the sleepers whose load eq 124 forms, top down
+    std::vector<Vec3<T>> corrected_from;  // per body: its position before this frame's correction (eq 89 order)
+    std::vector<int> order;            // eq 110: the pair contacts that correct, bottom up
+    std::vector<Vec3<T>> turn;         // eq 111: per body, the turn (rad) this frame's correction gave it
+    BroadScratch broad;
+    std::vector<Contact<T>> pair_contacts;
+    std::vector<BoxManifold<T>> pair_manifolds;  // per pair of pairs_: its manifold (eqs 100-106; count 0: none)
+    std::vector<std::pair<std::size_t, std::size_t>> visits;
+    std::vector<unsigned> velocity_version;
+    std::vector<IdleVisit> idle_visits;
+    std::vector<T> visit_split;  // per visit: eq 99's split (manifold_split), formed once per solve
+    std::vector<int> body_visit_begin, body_visits, visit_bodies;
+    std::vector<int> colour_begin, colour_visits;
+    std::vector<SolveEdge> edges;
+    std::vector<int> colour_top;  // per body: the largest colour of its edges so far (eq 127)
+    std::vector<std::pair<std::uint64_t, int>> own_visits;  // (body << 32 | other + 1, visit), sorted
+    T band_inv{};                 // eq 125's 1 / band, from the bodies awake after stage 2a
+    bool oriented_correction = false;  // eq 110's penetration (less what the stage moved) for pairs too
+    FrameScratch() = default;
+    FrameScratch(const FrameScratch&) {}
+    FrameScratch& operator=(const FrameScratch&) { return *this; }
+    FrameScratch(FrameScratch&&) noexcept = default;
+    FrameScratch& operator=(FrameScratch&&) noexcept = default;
+  };
+  FrameScratch scratch_;
   T ground_y_{}, ground_e_{}, ground_mu_{};
   std::vector<T> sdf_e_, sdf_mu_;
   StageCounters counters_;
   int frame_ = 0;
-  int threads_ = 1;
-  std::shared_ptr<ThreadPool> pool_;  // threads_ > 1: made on the first parallel region (not copied)
+  // The world's threads (7.7 "Threads"): how many, and the pool, made on the
+  // first parallel region; a copy steps on as many threads of its own.
+  struct Workers {
+    int threads = 1;
+    std::shared_ptr<ThreadPool> pool;
+    Workers() = default;
+    Workers(const Workers& o) : threads(o.threads) {}
+    Workers& operator=(const Workers& o) {
+      if (threads != o.threads) pool.reset();
+      threads = o.threads;
+      return *this;
+    }
+    Workers(Workers&&) noexcept = default;
+    Workers& operator=(Workers&&) noexcept = default;
+  };
+  Workers workers_;
   // Run-time inputs: the id table and the forces pending for the next step
   // (eq 121), ascending body index.
   BodyIds ids_;
