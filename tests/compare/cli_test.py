@@ -68,6 +68,8 @@ for args, must in [
     (["run", "--bogus"], ["unknown option --bogus", "--engine"]),
     (["run", "--engine", "quantum"], ["--engine", "'quantum'", "fixed, float, double, mp"]),
     (["run", "--format", "xml"], ["--format", "csv, jsonl"]),
+    (["run", "--threads", "0"], ["--threads", "'0'", "integer in [1, 256]"]),
+    (["run", "stack5", "--engine", "gpu", "--threads", "2", "--quiet"], ["--threads 2", "gpu engine", "give 1"]),
     (["compare", "--engines", "fixed,nope", "--no-report"], ["--engines", "'nope'", "fixed"]),
     (["compare", "--max-failures", "1e3"], ["--max-failures", "'1e3'", "integer in [0, 1000000]"]),
     (["vectors", "frob", "dir"], ["ACTION", "'frob'", "generate, verify"]),
@@ -99,6 +101,18 @@ check(record["format"] == "lockstep-run" and record["frames_run"] == 50 and reco
       "the run record names its format, frames and stride")
 check(all(record["hash"][int(f)] == h for f, h in hashes.items()), "the run record's hashes are the .hashes file's")
 check(summary and record["hash"][50] == summary.group(1), "the run record's last hash is the final hash")
+
+# --threads N: the same bits for every N (docs/SPEC.md 7.7 "Threads").
+hashes_by_threads = []
+for n in ("1", "3"):
+    t = run("run", "pyramid", "--frames", "80", "--threads", n, "--quiet", "--out", "t%s.csv" % n)
+    m = re.search(r"hash ([0-9a-f]{16})", t.stdout)
+    hashes_by_threads.append(m.group(1) if m else None)
+    check(t.returncode == 0 and m is not None, "run --threads %s exits 0 with its line (got %r %r)" % (n, t.stdout, t.stderr))
+check(hashes_by_threads[0] is not None and hashes_by_threads[0] == hashes_by_threads[1],
+      "run --threads 3 gives the hash of --threads 1 (got %r)" % hashes_by_threads)
+check(open(os.path.join(WORK, "t1.csv.hashes")).read() == open(os.path.join(WORK, "t3.csv.hashes")).read(),
+      "every frame's hash is the same on 1 and 3 threads")
 
 # --quiet: one line (frames, ms/step, hash, all-asleep frame, worst penetration); on stderr with --out -.
 q = run("run", "drop", "--quiet", "--out", "d.csv")
