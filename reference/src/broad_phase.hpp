@@ -32,16 +32,15 @@ void World<T>::broad_phase() {
   // narrowphase grows the pair test and the ground and SDF tolerances by it.
   const T half_tol = P_.contact_tolerance * Num<T>::from_double(0.5);
   const bool oriented = scene_.pair_contacts == PairModel::kOrientedBox;
+  // eq 125: the solver's height bands, from the largest AABB half extent of
+  // the bodies awake now (after eq 108's wake; not those eq 81 wakes later).
+  T largest{};
   grow_.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     const Body<T>& b = bodies_[i];
     grow_[i] = oriented && b.awake() ? half_tol + speculative_reach(b.v, b.w, b.half, P_.dt) : half_tol;  // eq 107
-  }
-  // eq 125: the solver's height bands, from the largest AABB half extent of
-  // the bodies awake now (after eq 108's wake; not those eq 81 wakes later).
-  T largest{};
-  for (const Body<T>& b : bodies_)
     if (b.awake()) largest = Num<T>::max(largest, Num<T>::max(b.aabb_half.x, Num<T>::max(b.aabb_half.y, b.aabb_half.z)));
+  }
   scratch_.band_inv = band_inverse(largest);
   if (!scene_.effects.contacts || n < 2) return;
   // A pair needs an awake side (maybe_pair): with every body asleep or static

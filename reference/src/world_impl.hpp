@@ -158,7 +158,7 @@ void World<T>::parallel_for(std::size_t count, std::size_t grain, const Body& bo
     for (std::size_t k = 0; k < count; ++k) body(k, 0);
     return;
   }
-  if (!workers_.pool || workers_.pool->size() != workers_.threads) workers_.pool = std::make_shared<ThreadPool>(workers_.threads);
+  if (!workers_.pool) workers_.pool = std::make_shared<ThreadPool>(workers_.threads);  // (dropped when the count changes)
   // A part stops at its first RunError; the lowest item's is rethrown, the
   // one a single thread would have met first.
   std::array<std::size_t, 256> failed;  // parts <= threads <= 256 (set_threads)
@@ -167,7 +167,9 @@ void World<T>::parallel_for(std::size_t count, std::size_t grain, const Body& bo
   workers_.pool->run(static_cast<int>(parts), [&](int part) {
     const std::size_t lo = count * static_cast<std::size_t>(part) / parts;
     const std::size_t hi = count * static_cast<std::size_t>(part + 1) / parts;
-    Num<T>::take_faults();  // this thread's: none left from an earlier region
+    // A worker's faults: none left from an earlier region. Part 0 runs on the
+    // caller, whose pending faults the next check reports, as on one thread.
+    if (part != 0) Num<T>::take_faults();
     for (std::size_t k = lo; k < hi; ++k) {
       try {
         body(k, part);

@@ -355,10 +355,11 @@ std::string sleeping_load_beyond_support(const E& e, double size) {
   return "";
 }
 
-// A failing tower's scene, for `lockstep run`: under the build tree (the
-// test's working directory), overwritten by the next failure.
+// A failing tower's scene, for `lockstep run`: under the build tree
+// (LOCKSTEP_TEST_OUTPUT_DIR, wherever the test is run from), overwritten by
+// the next failure.
 void write_failing_tower(const Scene& scene) {
-  std::ofstream("statics_failing_tower.json") << scene_to_json(scene);
+  std::ofstream(std::string(LOCKSTEP_TEST_OUTPUT_DIR) + "/statics_failing_tower.json") << scene_to_json(scene);
 }
 
 template <class E>

@@ -14,11 +14,12 @@
 #include "lockstep/builtin_scenes.hpp"
 #include "lockstep/fixed/q16_vec.hpp"
 #include "lockstep/world.hpp"
+#include "random_scene_gen.hpp"
 
 namespace lockstep {
 namespace {
 
-double grid(int lo, int hi, double step) { return *rc::gen::inRange(lo, hi + 1) * step; }
+using test::grid;
 
 // 4-9 columns of 3-9 boxes (sizes 0.3-0.6 m, masses 0.5-4 kg, tilted, off
 // their column's axis, some spinning), dropped with gaps onto the ground or
