@@ -67,7 +67,7 @@ void World<T>::solve_contacts() {
     material(c.a, e1, mu1);
     material(c.b, e2, mu2);
     c.state = prepare_contact(A, c.r1, B, c.r2, c.n, e1, mu1, e2, mu2, fx.restitution, fx.friction, P_, counts);
-    c.row = normal_row(A, c.r1, B, c.r2, c.n);  // eq 114
+    c.row = contact_rows(A, c.r1, B, c.r2, c.n, c.state.k_n);  // eqs 114, 128-129: once per frame
     check_faults(c.a, "contact preparation");
   });
   // eq 96: warm start from last frame's normal impulse of the same contact
@@ -229,12 +229,12 @@ void World<T>::solve_contacts() {
       };
       auto load = [&](int k) { return contacts_[s + static_cast<std::size_t>(k)].state; };
       auto store = [&](int k, const ContactState<T>& st) { contacts_[s + static_cast<std::size_t>(k)].state = st; };
-      auto row = [&](int k) -> const NormalRow<T>& { return contacts_[s + static_cast<std::size_t>(k)].row; };
+      auto row = [&](int k) -> const ContactRows<T>& { return contacts_[s + static_cast<std::size_t>(k)].row; };
       solve_manifold_rows<solver::kManifoldPoints>(A, B, point, row, load, store, fx.friction, fx.gravity, one, P_,
                                                    counts, &scratch_.visit_split[at]);
     } else {
       Contact<T>& c = contacts_[s];
-      solve_contact(A, c.r1, B, c.r2, c.n, c.penetration, c.state, fx.friction, fx.gravity, one, P_, counts);
+      solve_contact(A, c.r1, B, c.r2, c.n, c.penetration, c.state, fx.friction, fx.gravity, one, P_, counts, &c.row);
     }
     total.solver_contacts += counts.solver_contacts;
     total.normal_impulses += counts.normal_impulses;

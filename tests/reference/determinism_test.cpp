@@ -81,12 +81,18 @@ RC_GTEST_PROP(DeterminismTest, SaveAndRestoreMidRunGivesTheSameHashes, ()) {
 // 0x72642753b4a5caf4, AABB from 0x072d9b29dcbecd35; frame 30 still): the
 // solver's order of eqs 125-127 (the bodies' own visits, then the edges by
 // colour, instead of the contact list).
+// 2026-11-28 (issue 29, later) kept frame 77 and moved the drop's hash from
+// 0xdf77937a2dd044a0 and both pyramid hashes (oriented from
+// 0x54eb9eef991f701a, AABB from 0x91f1b6d2426d6cf3; frame 30 still): eqs
+// 94-95 through the rows of eqs 114, 128-129 (m_n = 1/k_n and the friction
+// step's k_t formed once per frame; the same values in exact arithmetic,
+// rounded differently).
 constexpr int kPinnedSleepFrame = 77;
 constexpr int kPinnedOrientedStackFrame = 30;
-constexpr std::uint64_t kPinnedOrientedStackHash = 0x54eb9eef991f701aull;
+constexpr std::uint64_t kPinnedOrientedStackHash = 0x771f9c1a93f04d1aull;
 constexpr int kPinnedAabbStackFrame = 30;
-constexpr std::uint64_t kPinnedAabbStackHash = 0x91f1b6d2426d6cf3ull;
-constexpr std::uint64_t kPinnedHash = 0xdf77937a2dd044a0ull;
+constexpr std::uint64_t kPinnedAabbStackHash = 0x10291ad5a5b326aaull;
+constexpr std::uint64_t kPinnedHash = 0xb62ac53796fbde47ull;
 TEST(DeterminismTest, PinnedDropHashAndSleepFrame) {
   Scene s;
   BodyDesc b = unit_cube(0, 2, 0);

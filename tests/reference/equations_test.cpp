@@ -186,7 +186,7 @@ TEST(ContactTest, Eq53ImpulseReflectsWithRestitution) {
   EXPECT_DOUBLE_EQ(e, 0.5);
   const double j = normal_impulse(e, -2.0, k, 1.0);  // eq 53
   double acc = 0;
-  EXPECT_DOUBLE_EQ(accumulate_normal_impulse(acc, -2.0, contact_target_velocity(0.0, e, -2.0, 9.81, 1.0 / 60, 60.0), k), j);  // eq 94 == eq 53 on one iteration
+  EXPECT_DOUBLE_EQ(accumulate_normal_impulse(acc, -2.0, contact_target_velocity(0.0, e, -2.0, 9.81, 1.0 / 60, 60.0), 1.0 / k), j);  // eq 94 == eq 53 on one iteration
   apply_impulse(a, V{}, g, V{}, n * j);
   EXPECT_DOUBLE_EQ(a.v.y, 1.0);  // -e * v
 }
@@ -403,9 +403,17 @@ TEST(ContactTest, FrictionStopsTangentialVelocityExactly) {
   EXPECT_NEAR(length(tangential_velocity(relative_velocity(b, r2, g, V{}), n)), 0.0, 1e-12);
   // When mu j binds, the impulse is exactly mu j (Coulomb).
   EXPECT_DOUBLE_EQ(friction_impulse(10.0, 1.0, 0.5, 2.0), 1.0);
+  // eq 95 through the rows (eq 129): a lone point sliding at 10 m/s along x
+  // on the ground with mu j_n = 1 gets the cone's impulse, against the slide.
+  BodyView<double> c{V{10, 0, 0}, V{}, 1.0, identity(), V{}};
+  const ContactRows<double> rows = contact_rows(c, V{}, g, V{}, n, 1.0);
+  double vel[2];
+  tangent_velocity(c, g, rows, vel);
   V acc{};
-  const V dJ = accumulate_friction_impulse(acc, V{10, 0, 0}, 1.0, 0.5, 2.0);  // eq 95: clamped to the cone
-  EXPECT_DOUBLE_EQ(dJ.x, -1.0);
+  const V dJ = accumulate_friction_impulse(acc, vel, rows, 1.0, 0.5, 2.0);  // eq 95: clamped to the cone
+  EXPECT_NEAR(dJ.x, -1.0, 1e-12);
+  EXPECT_NEAR(dJ.y, 0.0, 1e-12);
+  EXPECT_NEAR(dJ.z, 0.0, 1e-12);
 }
 // eqs 63, 89: correction split by inverse mass, slop kept.
 TEST(ContactTest, Eq89BaumgarteSplit) {
@@ -609,7 +617,7 @@ RC_GTEST_PROP(ContactTest, Eq114NormalRowIsTheRelativeVelocityAlongN, ()) {
   };
   const BodyView<double> A = side(true), B = side(*rc::gen::arbitrary<bool>());
   const V r1 = vec(-1, 1), r2 = vec(-1, 1), n = normalize(vec(-1, 1) + V{0, 2, 0});
-  const NormalRow<double> row = normal_row(A, r1, B, r2, n);
+  const ContactRows<double> row = contact_rows(A, r1, B, r2, n, inverse_effective_mass(A, r1, B, r2, n));
   RC_ASSERT(std::fabs(normal_velocity(A, B, row, n) - dot(relative_velocity(A, r1, B, r2), n)) < 1e-12);
   const double j = num(-2, 2);
   const ImpulseDelta<double> got = normal_delta(A, B, row, n, j), want = impulse_delta(A, r1, B, r2, n * j);
@@ -619,6 +627,58 @@ RC_GTEST_PROP(ContactTest, Eq114NormalRowIsTheRelativeVelocityAlongN, ()) {
     RC_ASSERT(std::fabs(got.vb[k] - want.vb[k]) < 1e-12);
     RC_ASSERT(std::fabs(got.wb[k] - want.wb[k]) < 1e-12);
   }
+  RC_ASSERT(std::fabs(row.m_n * inverse_effective_mass(A, r1, B, r2, n) - 1.0) < 1e-12);
+}
+// eqs 128-129: the tangents and n are orthonormal; the tangent rows give the
+// sliding velocity (56) along each tangent and (87) for an impulse in the
+// plane; one unclamped step of eq 95 on a lone point is an impulse against
+// its sliding that stops the sliding along that direction (eq 88 with k_t
+// read off K_t; double: to rounding), for tilted boxes of any inertia and
+// mass.
+RC_GTEST_PROP(ContactTest, Eq129TangentRowsStopALoneSlideInOneStep, ()) {
+  auto num = [](double lo, double hi) {
+    return lo + (hi - lo) * *rc::gen::inRange(0, 1 << 20) / static_cast<double>(1 << 20);
+  };
+  auto vec = [&](double lo, double hi) { return V{num(lo, hi), num(lo, hi), num(lo, hi)}; };
+  auto side = [&](bool movable) {
+    const V axis = vec(-1, 1);
+    const double len = length(axis);
+    const Q q = len > 1e-3 ? axis_angle(axis * (1 / len), num(0, 3)) : Q{1, 0, 0, 0};
+    return movable ? BodyView<double>{vec(-3, 3), vec(-5, 5), 1 / num(0.01, 100), rotation_matrix(q), vec(0.01, 100)}
+                   : immovable_view<double>();
+  };
+  BodyView<double> A = side(true), B = side(*rc::gen::arbitrary<bool>());
+  const V r1 = vec(-1, 1), r2 = vec(-1, 1), n = normalize(vec(-1, 1) + V{0, *rc::gen::inRange(-2, 3) * 1.0, 0});
+  RC_PRE(length(n) > 0.5);
+  const ContactRows<double> row = contact_rows(A, r1, B, r2, n, inverse_effective_mass(A, r1, B, r2, n));
+  RC_ASSERT(std::fabs(dot(row.t[0], row.t[1])) < 1e-12);
+  RC_ASSERT(std::fabs(dot(row.t[0], n)) < 1e-12);
+  RC_ASSERT(std::fabs(dot(row.t[1], n)) < 1e-12);
+  RC_ASSERT(std::fabs(length(row.t[0]) - 1) < 1e-12);
+  RC_ASSERT(std::fabs(length(row.t[1]) - 1) < 1e-12);
+  double vt[2];
+  tangent_velocity(A, B, row, vt);
+  const V vrel = relative_velocity(A, r1, B, r2);
+  for (int a = 0; a < 2; ++a) RC_ASSERT(std::fabs(vt[a] - dot(vrel, row.t[a])) < 1e-9);
+  const V J = row.t[0] * num(-2, 2) + row.t[1] * num(-2, 2);
+  const ImpulseDelta<double> got = tangent_delta(A, B, row, J), want = impulse_delta(A, r1, B, r2, J);
+  for (int k = 0; k < 3; ++k) {
+    RC_ASSERT(std::fabs(got.va[k] - want.va[k]) < 1e-9);
+    RC_ASSERT(std::fabs(got.wa[k] - want.wa[k]) < 1e-9);
+    RC_ASSERT(std::fabs(got.vb[k] - want.vb[k]) < 1e-9);
+    RC_ASSERT(std::fabs(got.wb[k] - want.wb[k]) < 1e-9);
+  }
+  const V v_tan = tangential_velocity(vrel, n);  // eq 56
+  RC_PRE(length(v_tan) > 1e-6);
+  const V dir = normalize(v_tan);
+  V acc{};
+  const V dJ = accumulate_friction_impulse(acc, vt, row, 1.0, 1.0, 1e9);  // a cone that never binds
+  RC_ASSERT(length(dJ - dir * dot(dJ, dir)) <= 1e-9 * (1 + length(dJ)));  // against the sliding
+  RC_ASSERT(dot(dJ, dir) < 0);
+  const double k_dir = inverse_effective_mass(A, r1, B, r2, dir);  // eq 88's k_t
+  RC_ASSERT(std::fabs(dot(dJ, dir) + length(v_tan) / k_dir) <= 1e-9 * (1 + length(v_tan) / k_dir));
+  apply_delta(A, B, tangent_delta(A, B, row, dJ));
+  RC_ASSERT(std::fabs(dot(relative_velocity(A, r1, B, r2), dir)) <= 1e-9 * (1 + length(v_tan)));
 }
 // eq 112's chain: stage 6's order is ascending (y, index); a body over its
 // support still tips when its support settles before it and tips.

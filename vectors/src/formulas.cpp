@@ -163,9 +163,10 @@ Json normal_step(View A, View B, In in, const std::string& p) {
   Q16 j_n = q16_at(in, "j_n", p);
   const Q16 k_n = inverse_effective_mass(A, r1, B, r2, n);                           // eq 86
   const Q16 v_n = dot(relative_velocity(A, r1, B, r2), n);                           // eqs 48-49
-  const Q16 dj = accumulate_normal_impulse(j_n, v_n, q16_at(in, "target", p), k_n);  // eqs 53, 94
+  const Q16 m_n = k_n > Q16{} ? Q16::from_int(1) / k_n : Q16{};                     // eq 114
+  const Q16 dj = accumulate_normal_impulse(j_n, v_n, q16_at(in, "target", p), m_n);  // eqs 53, 94
   if (dj != Q16{}) apply_impulse(A, r1, B, r2, n * dj);                              // eq 87
-  return Json{{"k_n", to_json(k_n)}, {"v_n", to_json(v_n)}, {"dj", to_json(dj)},
+  return Json{{"k_n", to_json(k_n)}, {"m_n", to_json(m_n)}, {"v_n", to_json(v_n)}, {"dj", to_json(dj)},
               {"j_n", to_json(j_n)}, {"a", velocities(A)},  {"b", velocities(B)}};
 }
 Json f_ground_impulse(In in, const std::string& p) {
@@ -293,18 +294,15 @@ Json f_friction_step(In in, const std::string& p) {
   View B = view_at(in, "b", p);
   const V r1 = vec_at(in, "r1", p), r2 = vec_at(in, "r2", p), n = vec_at(in, "n", p);
   V j_t = vec_at(in, "j_t", p);
-  const V v_tan = tangential_velocity(relative_velocity(A, r1, B, r2), n);  // eq 56
-  const bool applied = length(v_tan) > Q16{};                               // eq 57
-  V t, dJ;
-  Q16 k_t;
-  if (applied) {
-    t = normalize(v_tan);                                                                          // eq 60
-    k_t = inverse_effective_mass(A, r1, B, r2, t);                                                 // eq 88
-    dJ = accumulate_friction_impulse(j_t, v_tan, k_t, q16_at(in, "mu", p), q16_at(in, "j_n", p));  // eqs 88, 95
-    apply_impulse(A, r1, B, r2, dJ);                                                               // eqs 61-62, 87
-  }
-  return Json{{"v_tan", to_json(v_tan)}, {"applied", applied},  {"t", to_json(t)},    {"k_t", to_json(k_t)},
-              {"dJ", to_json(dJ)},       {"j_t", to_json(j_t)}, {"a", velocities(A)}, {"b", velocities(B)}};
+  const ContactRows<Q16> rows = contact_rows(A, r1, B, r2, n, inverse_effective_mass(A, r1, B, r2, n));  // eqs 86, 114, 128-129
+  Q16 vt[2];
+  tangent_velocity(A, B, rows, vt);  // eqs 48, 56, 129
+  const V dJ = accumulate_friction_impulse(j_t, vt, rows, Q16::from_int(1), q16_at(in, "mu", p), q16_at(in, "j_n", p));  // eq 95
+  if (!(dJ == V{})) apply_delta(A, B, tangent_delta(A, B, rows, dJ));  // eqs 61-62, 87, 129
+  return Json{{"t1", to_json(rows.t[0])}, {"t2", to_json(rows.t[1])},
+              {"k_t", Json::array({to_json(rows.k_t[0]), to_json(rows.k_t[1]), to_json(rows.k_t[2])})},
+              {"vt", Json::array({to_json(vt[0]), to_json(vt[1])})},
+              {"dJ", to_json(dJ)}, {"j_t", to_json(j_t)}, {"a", velocities(A)}, {"b", velocities(B)}};
 }
 Json f_baumgarte(In in, const std::string& p) {
   V pa = vec_at(in, "pa", p), pb = vec_at(in, "pb", p);
@@ -588,10 +586,16 @@ const std::vector<Formula>& formulas() {
        "as ground_impulse with body b movable: -J on b at r2 (87)",
        f_two_body_impulse},
       {"friction_step",
-       {56, 57, 58, 60, 86, 87, 88, 95},
-       "v_tan = v_rel - n dot(v_rel, n) (56); if |v_tan| > 0 (57): t = normalize(v_tan) (60), k_t = (86) along t, "
-       "accumulated j_t' = j_t - v_tan * (1 / k_t), scaled by (mu j_n) / |j_t'| when |j_t'| > mu j_n (95); "
-       "dJ = j_t' - j_t applied at r1/r2 (87)",
+       {56, 86, 87, 95, 128, 129},
+       "the contact's rows (eqs 128-129, contact_rows): t1 = normalize((n.z, 0, -n.x)) if |n.x| > |n.y| else "
+       "normalize((0, n.z, -n.y)), t2 = n x t1; rt1_a = r1 x t_a, at1_a = I_a^-1 rt1_a (90), the same of b at r2; "
+       "k_t = {k11, k12, k22}: k11 = m_a^-1 + m_b^-1 + rt1_0.at1_0 + rt2_0.at2_0, k12 = rt1_0.at1_1 + rt2_0.at2_1, "
+       "k22 = m_a^-1 + m_b^-1 + rt1_1.at1_1 + rt2_1.at2_1. vt_a = (v_a - v_b).t_a + w_a.rt1_a - w_b.rt2_a; "
+       "r = max(|vt0|, |vt1|); if r > 0: u_a = vt_a / r, q = k11 (u0 u0) + (k12 (u0 u1)) 2 + k22 (u1 u1), and if q > 0: "
+       "i = (u0 u0 + u1 u1) / q, j_t' = j_t - (t1 (vt0 i) + t2 (vt1 i)) * 1; else j_t' = j_t; "
+       "j_t' scaled by (mu j_n) / |j_t'| when |j_t'| > mu j_n (95); "
+       "dJ = j_t' - j_t applied through the rows (87): l'_a = dJ.t_a, v_a += dJ m_a^-1, w_a += at1_0 l'_0 + at1_1 l'_1, "
+       "v_b -= dJ m_b^-1, w_b -= at2_0 l'_0 + at2_1 l'_1",
        f_friction_step},
       {"baumgarte_correction",
        {63, 89},
@@ -717,11 +721,14 @@ const std::vector<Formula>& formulas() {
        "r1_k along n_k. eq 99: with more than one point, o = sum_k (m_a^-1 + 0) / k_n,k in points order and "
        "split = o if o > 1, else 1; with one point split = 1. Normal pass (Jacobi): for every point from the "
        "velocities at the start of the visit, v_n = dot(v_a + w_a x r1, n) (48-49), target = eq 97 with "
-       "min(v_n0, 0) and g_n = -dot(gravity, n) if effect_gravity else 0, then (94) with k_n * split; then every "
-       "non-zero impulse n * dj is applied in points order (87). Friction: from the velocities after the "
-       "normal pass, for every point with j_n > 0 or j_t != 0: v_tan (56), k_t = (86) along normalize(v_tan) "
-       "(60) times split if |v_tan| > 0 (57), else 1; (95) with k_t, mu and the point's j_n; then every non-zero "
-       "dJ is applied in points order (87). Counts: points visited, normal and friction impulses applied",
+       "min(v_n0, 0) and g_n = -dot(gravity, n) if effect_gravity else 0, then (94) with the effective mass "
+       "m_n * (1/split) (m_n = 1/k_n, eq 114; 1/split only when split != 1); with more than one point the "
+       "proposals are scaled by the step length of (99) (normal_manifold_step), then applied in points order "
+       "through the normal rows (87, 114). Friction: the cone pull-back of (99) step 5, then from the velocities "
+       "after the normal pass, for every point with j_n > 0 or j_t != 0: friction_step's proposal (95, 128-129) "
+       "with the tangent mass times 1/split; with more than one point scaled by the step length of (99) "
+       "(friction_manifold_step), then applied in points order through the tangent rows. Counts: points visited, "
+       "normal and friction impulses applied",
        f_manifold_visit},
       {"box_box_manifold",
        {100, 101, 102, 103, 104, 105, 106},

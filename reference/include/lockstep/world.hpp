@@ -125,7 +125,7 @@ struct Contact {
   // Solver state (eqs 94-96), set when the solve starts.
   Vec3<T> r1, r2;        // lever arms c - p (eq 48, m)
   ContactState<T> state; // impulses, approach speed, e, mu, k_n (physics/solver.hpp)
-  NormalRow<T> row;      // eq 114: r x n and I^-1 (r x n) of both sides, for every pass
+  ContactRows<T> row;    // eqs 114, 128-129: the normal and tangent rows and effective masses, for every pass
 };
 
 // Result of a raycast (Appendix B).

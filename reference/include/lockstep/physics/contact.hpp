@@ -48,13 +48,14 @@ LS_HD T normal_impulse(const T& e, const T& v_n, const T& k, const T& one) { ret
 
 // eq 94 (the iterated form of eq 53, Catto's accumulated impulses): each
 // iteration drives the normal velocity v_n to the contact's target velocity:
-// dj = -(v_n - target) / k, with the accumulated impulse kept >= 0:
+// dj = (target - v_n) m, m the effective mass along n (1/k, eq 86; formed
+// once per frame, eq 114), with the accumulated impulse kept >= 0:
 // J' = max(J + dj, 0); the impulse applied is J' - J. For a touching contact
 // the target is the bounce -e v_n0 (v_n0 <= 0, the approach speed at the start
-// of the solve); one iteration on one contact from J = 0 is then exactly eq 53.
+// of the solve); one iteration on one contact from J = 0 is then eq 53.
 template <class T>
-LS_HD_INLINE T accumulate_normal_impulse(T& accumulated, const T& v_n, const T& target, const T& k) {
-  const T dj = -(v_n - target) / k;
+LS_HD_INLINE T accumulate_normal_impulse(T& accumulated, const T& v_n, const T& target, const T& m) {
+  const T dj = (target - v_n) * m;
   const T updated = Num<T>::max(accumulated + dj, T{});
   const T applied = updated - accumulated;
   accumulated = updated;
@@ -92,22 +93,13 @@ LS_HD_INLINE T contact_target_velocity(const T& penetration, const T& e, const T
 
 // eq 95 (the iterated form of eq 88): the friction impulse accumulated over
 // the iterations, a vector in the contact plane, is clamped to the Coulomb
-// cone |J_t| <= mu J_n; each iteration adds -v_tan / k_t and returns the
-// change to apply. One iteration on one contact is exactly eq 88.
-// eq 95's clamp: a friction impulse J scaled onto the cone |J| <= limit
-// (limit = mu J_n), unchanged inside it.
+// cone |J_t| <= mu J_n (accumulate_friction_impulse, physics/solver.hpp,
+// through the tangent rows of eq 129). The clamp: a friction impulse J
+// scaled onto the cone |J| <= limit (limit = mu J_n), unchanged inside it.
 template <class T>
 LS_HD_INLINE Vec3<T> clamp_to_cone(const Vec3<T>& J, const T& limit) {
   if (!longer_than(J, limit)) return J;  // |J| <= limit (Q16: without the root)
   return J * (limit / length(J));
-}
-template <class T>
-LS_HD_INLINE Vec3<T> accumulate_friction_impulse(Vec3<T>& accumulated, const Vec3<T>& v_tan, const T& k_t, const T& mu,
-                                          const T& j_n) {
-  const Vec3<T> old = accumulated;
-  const Vec3<T> updated = clamp_to_cone(accumulated - v_tan * (Num<T>::from_int(1) / k_t), mu * j_n);
-  accumulated = updated;
-  return updated - old;
 }
 
 // eq 99: the step length of a manifold's Jacobi step. A body's points

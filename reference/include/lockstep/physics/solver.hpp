@@ -93,34 +93,118 @@ LS_HD ContactState<T> prepare_contact(const BodyView<T>& A, const Vec3<T>& r1, c
   return c;
 }
 
-// eq 114: the normal row of a contact point (A at r1, B at r2, n from B to
-// A): the moments r1 x n and r2 x n and their images under the sides' world
-// inverse inertia (eq 90), I1^-1 (r1 x n) and I2^-1 (r2 x n). They depend on
-// the point and on the sides' rotations and inertia, which the solve does not
-// change: World<T> forms them once per frame and every pass reads them; the
-// GPU engine forms them where it needs them (the same values).
+// eq 128: the tangent basis of a unit contact normal n: t1 perpendicular to
+// n, from the two components other than the smaller of |n.x|, |n.y|
+// ((n.z, 0, -n.x) / |.| when |n.x| > |n.y|, else (0, n.z, -n.y) / |.|; never
+// a zero vector for a unit n), and t2 = n x t1. Ground and axis-aligned
+// normals give axis tangents exactly.
 template <class T>
-struct NormalRow {
-  Vec3<T> rn1, rn2;  // r1 x n, r2 x n (m)
-  Vec3<T> an1, an2;  // I1^-1 (r1 x n), I2^-1 (r2 x n) (1/(kg m))
+LS_HD_INLINE void tangent_basis(const Vec3<T>& n, Vec3<T>& t1, Vec3<T>& t2) {
+  if (Num<T>::abs(n.x) > Num<T>::abs(n.y)) t1 = normalize(Vec3<T>{n.z, T{}, -n.x});
+  else t1 = normalize(Vec3<T>{T{}, n.z, -n.y});
+  t2 = cross(n, t1);
+}
+
+// eqs 114, 128-129: the rows of a contact point (A at r1, B at r2, n from B to
+// A), formed from the point and the sides' masses, rotations and inertia,
+// which the solve does not change: World<T> forms them once per frame, the
+// GPU engine once per visit (the same values). The normal row: r1 x n,
+// r2 x n and their images under the sides' world inverse inertia (eq 90);
+// the effective mass along n, m_n = 1/k_n (eq 86's k_n, 0 when it is 0).
+// The tangent rows: the tangents t_a of eq 128 with r x t_a and
+// I^-1 (r x t_a) of each side, and the 2x2 tangent matrix K_t (eq 129:
+// k_ab = (m1^-1 + m2^-1) [a = b] + (r1 x t_a).I1^-1 (r1 x t_b)
+// + (r2 x t_a).I2^-1 (r2 x t_b): eq 86 in the tangent plane, so that eq 86
+// along any tangent u = u_1 t_1 + u_2 t_2 is u^T K_t u).
+template <class T>
+struct ContactRows {
+  Vec3<T> rn1, rn2;        // r1 x n, r2 x n (m)
+  Vec3<T> an1, an2;        // I1^-1 (r1 x n), I2^-1 (r2 x n) (1/(kg m))
+  Vec3<T> t[2];            // eq 128: the tangents (1)
+  Vec3<T> rt1[2], rt2[2];  // r1 x t_a, r2 x t_a (m)
+  Vec3<T> at1[2], at2[2];  // I1^-1 (r1 x t_a), I2^-1 (r2 x t_a) (1/(kg m))
+  T m_n{};                 // 1 / k_n (kg)
+  T k_t[3]{};              // eq 129: K_t as {k11, k12, k22} (1/kg)
 };
 template <class T>
-LS_HD_INLINE NormalRow<T> normal_row(const BodyView<T>& A, const Vec3<T>& r1, const BodyView<T>& B, const Vec3<T>& r2,
-                                     const Vec3<T>& n) {
-  const Vec3<T> rn1 = cross(r1, n), rn2 = cross(r2, n);  // eq 51
-  return {rn1, rn2, apply_inverse_inertia(A.R, A.inv_inertia, rn1), apply_inverse_inertia(B.R, B.inv_inertia, rn2)};
+LS_HD_INLINE ContactRows<T> contact_rows(const BodyView<T>& A, const Vec3<T>& r1, const BodyView<T>& B,
+                                         const Vec3<T>& r2, const Vec3<T>& n, const T& k_n) {
+  ContactRows<T> w;
+  w.rn1 = cross(r1, n);  // eq 51
+  w.rn2 = cross(r2, n);
+  w.an1 = apply_inverse_inertia(A.R, A.inv_inertia, w.rn1);
+  w.an2 = apply_inverse_inertia(B.R, B.inv_inertia, w.rn2);
+  if (k_n > T{}) w.m_n = Num<T>::from_int(1) / k_n;
+  tangent_basis(n, w.t[0], w.t[1]);  // eq 128
+  for (int a = 0; a < 2; ++a) {
+    w.rt1[a] = cross(r1, w.t[a]);
+    w.rt2[a] = cross(r2, w.t[a]);
+    w.at1[a] = apply_inverse_inertia(A.R, A.inv_inertia, w.rt1[a]);
+    w.at2[a] = apply_inverse_inertia(B.R, B.inv_inertia, w.rt2[a]);
+  }
+  const T lin = A.inv_mass + B.inv_mass;  // eq 129
+  w.k_t[0] = lin + dot(w.rt1[0], w.at1[0]) + dot(w.rt2[0], w.at2[0]);
+  w.k_t[1] = dot(w.rt1[0], w.at1[1]) + dot(w.rt2[0], w.at2[1]);
+  w.k_t[2] = lin + dot(w.rt1[1], w.at1[1]) + dot(w.rt2[1], w.at2[1]);
+  return w;
 }
-// eqs 48-49 along n through the row (eq 114): v_n = (v1 - v2).n + w1.(r1 x n) - w2.(r2 x n).
+// eqs 48-49 along n through the rows (eq 114): v_n = (v1 - v2).n + w1.(r1 x n) - w2.(r2 x n).
 template <class T>
-LS_HD_INLINE T normal_velocity(const BodyView<T>& A, const BodyView<T>& B, const NormalRow<T>& row, const Vec3<T>& n) {
+LS_HD_INLINE T normal_velocity(const BodyView<T>& A, const BodyView<T>& B, const ContactRows<T>& row, const Vec3<T>& n) {
   return dot(A.v - B.v, n) + dot(A.w, row.rn1) - dot(B.w, row.rn2);
 }
-// Eq 87's velocity changes for the impulse J = n j through the row (eq 114):
+// Eq 87's velocity changes for the impulse J = n j through the rows (eq 114):
 // n (j m1^-1), I1^-1 (r1 x n) j on A and the same of B (taken off B).
 template <class T>
-LS_HD_INLINE ImpulseDelta<T> normal_delta(const BodyView<T>& A, const BodyView<T>& B, const NormalRow<T>& row,
+LS_HD_INLINE ImpulseDelta<T> normal_delta(const BodyView<T>& A, const BodyView<T>& B, const ContactRows<T>& row,
                                           const Vec3<T>& n, const T& j) {
   return {n * (j * A.inv_mass), row.an1 * j, n * (j * B.inv_mass), row.an2 * j};
+}
+// eqs 48, 56 along the tangents through the rows (eq 129): the sliding
+// velocity's components vt_a = (v1 - v2).t_a + w1.(r1 x t_a) - w2.(r2 x t_a).
+template <class T>
+LS_HD_INLINE void tangent_velocity(const BodyView<T>& A, const BodyView<T>& B, const ContactRows<T>& row, T* vt) {
+  const Vec3<T> dv = A.v - B.v;
+  for (int a = 0; a < 2; ++a) vt[a] = dot(dv, row.t[a]) + dot(A.w, row.rt1[a]) - dot(B.w, row.rt2[a]);
+}
+// Eq 87's velocity changes for a friction impulse J (in the tangent plane)
+// through the rows (eq 129): with l_a = J.t_a, J m1^-1 and
+// I1^-1 (r1 x t_1) l_1 + I1^-1 (r1 x t_2) l_2 on A, the same of B taken off
+// B (I^-1 (r x J) in exact arithmetic).
+template <class T>
+LS_HD_INLINE ImpulseDelta<T> tangent_delta(const BodyView<T>& A, const BodyView<T>& B, const ContactRows<T>& row,
+                                           const Vec3<T>& J) {
+  const T l0 = dot(J, row.t[0]), l1 = dot(J, row.t[1]);
+  return {J * A.inv_mass, row.at1[0] * l0 + row.at1[1] * l1, J * B.inv_mass, row.at2[0] * l0 + row.at2[1] * l1};
+}
+// eq 95 with the tangent rows (eq 129): the friction impulse accumulated over
+// the passes, a world vector in the contact plane, moves against the
+// sliding velocity vt (its components along t_1, t_2) by vt / k_t, k_t eq
+// 86's inverse effective mass along the sliding direction (eqs 57, 60, 88),
+// read off K_t: with u = vt / max(|vt_1|, |vt_2|) (components in [-1, 1], so
+// that no square leaves Q16.16), k_t = u^T K_t u / |u|^2; times `scale`
+// (eq 99's 1/split). The sum is clamped to the Coulomb cone
+// |J_t| <= mu J_n (so a sliding point's friction opposes its own sliding);
+// returns the change to apply. No root and one division per point less
+// than forming k_t from the direction (normalize(v_tan), eq 86): the same
+// value in exact arithmetic.
+template <class T>
+LS_HD_INLINE Vec3<T> accumulate_friction_impulse(Vec3<T>& accumulated, const T* vt, const ContactRows<T>& row,
+                                                 const T& scale, const T& mu, const T& j_n) {
+  Vec3<T> proposal = accumulated;
+  const T reach = Num<T>::max(Num<T>::abs(vt[0]), Num<T>::abs(vt[1]));
+  if (reach > T{}) {  // eq 57: sliding
+    const T u0 = vt[0] / reach, u1 = vt[1] / reach;
+    const T uKu = row.k_t[0] * (u0 * u0) + (row.k_t[1] * (u0 * u1)) * Num<T>::from_int(2) + row.k_t[2] * (u1 * u1);
+    if (uKu > T{}) {
+      const T inv_k = (u0 * u0 + u1 * u1) / uKu;  // 1 / k_t (eqs 60, 88)
+      proposal -= (row.t[0] * (vt[0] * inv_k) + row.t[1] * (vt[1] * inv_k)) * scale;
+    }
+  }
+  const Vec3<T> updated = clamp_to_cone(proposal, mu * j_n);
+  const Vec3<T> old = accumulated;
+  accumulated = updated;
+  return updated - old;
 }
 
 // Eq 96: the warm start of one contact from last frame's accumulated normal
@@ -148,78 +232,69 @@ LS_HD_INLINE T gravity_pressing(const BodyView<T>& B, const Vec3<T>& n, bool gra
   return (gravity && B.inv_mass == T{}) ? -dot(P.gravity, n) : T{};
 }
 
-// One solver visit of one contact (eqs 48-49, 53, 56-57, 60, 87-88, 94-95,
-// 97). A is body 1, B body 2, n points from B to A; A and B are updated in
-// place. `k_scale` multiplies the effective masses k_n and k_t: 1 is
-// World<T>'s sequential visit of a body pair; the GPU engine's Jacobi visits
-// of body-body contacts pass the larger contact count of the two bodies (mass
-// splitting, docs/GPU.md).
-template <class T>
-LS_HD void solve_contact(BodyView<T>& A, const Vec3<T>& r1, BodyView<T>& B, const Vec3<T>& r2, const Vec3<T>& n,
-                         const T& penetration, ContactState<T>& c, bool friction, bool gravity, const T& k_scale,
-                         const Params<T>& P, SolveCounts& counts) {
-  if (!(c.k_n > T{})) return;  // both sides immovable
-  ++counts.solver_contacts;
-  const NormalRow<T> row = normal_row(A, r1, B, r2, n);  // eq 114, as a manifold's point
-  const T v_n = normal_velocity(A, B, row, n);            // eqs 48-49
-  // Only approaching contacts bounce (the fix of 3.1): the target -e v_n0 uses v_n0 <= 0.
-  const T target = contact_target_velocity(penetration, c.e, Num<T>::min(c.v_n0, T{}), gravity_pressing(B, n, gravity, P),
-                                           P.dt, P.inv_dt);  // eq 97
-  const T dj = accumulate_normal_impulse(c.j_n, v_n, target, c.k_n * k_scale);  // eqs 53, 94
-  if (dj != T{}) {
-    apply_delta(A, B, normal_delta(A, B, row, n, dj));  // eqs 87, 114
-    ++counts.normal_impulses;
-  }
-  // Friction (eqs 56-62, 88, 95); also re-clamps a friction impulse left
-  // above mu J_n when J_n has since dropped.
-  if (friction && (c.j_n > T{} || !(c.j_t == Vec3<T>{}))) {
-    const Vec3<T> v_tan = tangential_velocity(relative_velocity(A, r1, B, r2), n);  // eq 56
-    const bool sliding = length(v_tan) > T{};                                       // eq 57
-    const T k_t = sliding ? inverse_effective_mass(A, r1, B, r2, normalize(v_tan)) : Num<T>::from_int(1);  // eqs 60, 88
-    const Vec3<T> dJ = accumulate_friction_impulse(c.j_t, v_tan, k_t * k_scale, c.mu, c.j_n);  // eq 95
-    if (!(dJ == Vec3<T>{})) {
-      apply_impulse(A, r1, B, r2, dJ);  // eqs 61-62, 87
-      ++counts.friction_steps;
-    }
-  }
-}
-
 // Eq 99's step length for a manifold's normal proposals dj_k (eq 114's rows):
 // with R = max_k |dj_k| and w_k = dj_k / R, a = sum_k w_k res_k (res_k =
 // target_k - v_n,k) and b = sum_k w_k (n_k . dv_k), dv_k the velocity change
 // at point k that all the proposals cause together (the normal velocity of
-// the sides at rest after them). `deltas` and `formed` as manifold_step's.
-template <int N, class T, class Point, class Row>
-LS_HD_INLINE T normal_manifold_step(const BodyView<T>& A, const BodyView<T>& B, const Point& point, const Row& row,
-                                    const T* dj, const T* res, int end, ImpulseDelta<T>* deltas, bool* formed) {
+// the sides at rest after them). Point k's eq 87 velocity changes are kept
+// in deltas[k], and formed[k] tells whether they were formed (dj_k != 0).
+template <int N, class T, class Row>
+LS_HD_INLINE T normal_manifold_step(const BodyView<T>& A, const BodyView<T>& B, const bool* ok, const Vec3<T>* n,
+                                    const Row& row, const T* dj, const T* res, int end, ImpulseDelta<T>* deltas,
+                                    bool* formed) {
   BodyView<T> Z = A, Zb = B;  // the sides at rest: they gather the proposals' velocity change
   Z.v = Z.w = Zb.v = Zb.w = Vec3<T>{};
   T reach{};
-#if defined(__CUDA_ARCH__)
-#pragma unroll 1
-#endif
   for (int k = 0; k < end; ++k) {
-    if (formed != nullptr) formed[k] = false;
-    Vec3<T> r1, r2, n;
-    T penetration;
-    if (dj[k] == T{} || !point(k, r1, r2, n, penetration)) continue;
-    const ImpulseDelta<T> dl = normal_delta(Z, Zb, row(k), n, dj[k]);
-    apply_delta(Z, Zb, dl);
-    if (deltas != nullptr) { deltas[k] = dl; formed[k] = true; }
+    formed[k] = false;
+    if (dj[k] == T{} || !ok[k]) continue;
+    deltas[k] = normal_delta(Z, Zb, row(k), n[k], dj[k]);
+    apply_delta(Z, Zb, deltas[k]);
+    formed[k] = true;
     reach = Num<T>::max(reach, Num<T>::abs(dj[k]));
   }
   if (!(reach > T{})) return Num<T>::from_int(1);
   T a{}, b{};
-#if defined(__CUDA_ARCH__)
-#pragma unroll 1
-#endif
   for (int k = 0; k < end; ++k) {
-    Vec3<T> r1, r2, n;
-    T penetration;
-    if (dj[k] == T{} || !point(k, r1, r2, n, penetration)) continue;
+    if (!formed[k]) continue;
     const T w = dj[k] / reach;  // in [-1, 1]
     a += w * res[k];
-    b += w * normal_velocity(Z, Zb, row(k), n);
+    b += w * normal_velocity(Z, Zb, row(k), n[k]);
+  }
+  return manifold_step_length(a, b);
+}
+
+// Eq 99's step length for a manifold's friction proposals dJ_k (world
+// vectors in the contact planes) through the tangent rows (eq 129): with
+// R = max_k max_abs(dJ_k) and w_k,a = (dJ_k . t_k,a) / R, a = -sum_k w_k . vt_k
+// (the pull: the sliding velocities at the step's start) and
+// b = sum_k w_k . dvt_k, dvt_k the tangent velocity change at point k that
+// all the proposals cause together. deltas and formed as normal_manifold_step's.
+template <int N, class T, class Row>
+LS_HD_INLINE T friction_manifold_step(const BodyView<T>& A, const BodyView<T>& B, const bool* ok, const Row& row,
+                                      const Vec3<T>* dJ, const T* vt0, const T* vt1, int end,
+                                      ImpulseDelta<T>* deltas, bool* formed) {
+  BodyView<T> Z = A, Zb = B;  // the sides at rest: they gather the proposals' velocity change
+  Z.v = Z.w = Zb.v = Zb.w = Vec3<T>{};
+  T reach{};
+  for (int k = 0; k < end; ++k) {
+    formed[k] = false;
+    if (!ok[k] || dJ[k] == Vec3<T>{}) continue;
+    deltas[k] = tangent_delta(Z, Zb, row(k), dJ[k]);
+    apply_delta(Z, Zb, deltas[k]);
+    formed[k] = true;
+    reach = Num<T>::max(reach, max_abs(dJ[k]));
+  }
+  if (!(reach > T{})) return Num<T>::from_int(1);
+  T a{}, b{};
+  for (int k = 0; k < end; ++k) {
+    if (!formed[k]) continue;
+    const ContactRows<T>& w = row(k);
+    const T w0 = dot(dJ[k], w.t[0]) / reach, w1 = dot(dJ[k], w.t[1]) / reach;  // in [-1.8, 1.8]
+    T dvt[2];
+    tangent_velocity(Z, Zb, w, dvt);
+    a -= w0 * vt0[k] + w1 * vt1[k];
+    b += w0 * dvt[0] + w1 * dvt[1];
   }
   return manifold_step_length(a, b);
 }
@@ -240,16 +315,12 @@ LS_HD_INLINE T manifold_split(const T& o, int count) {
   return (count > 1 && o > one) ? o : one;
 }
 
-// Host builds keep what a manifold visit has formed once and would form again:
-// its points and their solver states (read once per visit), eq 87's velocity
-// changes of each point's impulse (measured by manifold_step, then applied
-// when the step is 1), each point's impulse, and the friction step's relative
-// velocities (eq 48, the pull of its eq 99 step). The same values, so the
-// same bits; device builds form them again (fewer registers).
+// Host builds leave a visit's scratch unfilled (below); device builds
+// (std::launder is host code) use plain arrays.
 #if defined(__CUDA_ARCH__)
-inline constexpr bool kManifoldCache = false;
+inline constexpr bool kUnfilledScratch = false;
 #else
-inline constexpr bool kManifoldCache = true;
+inline constexpr bool kUnfilledScratch = true;
 #endif
 
 // A manifold visit's scratch of M values of V, each written before it is
@@ -259,7 +330,7 @@ inline constexpr bool kManifoldCache = true;
 // the storage holds a V once one is assigned to it (C++20 [intro.object]).
 // Device builds and number types that are not trivially copyable (mp): a
 // plain array.
-template <class V, int M, bool kUnfilled = kManifoldCache && std::is_trivially_copyable_v<V>>
+template <class V, int M, bool kUnfilled = kUnfilledScratch && std::is_trivially_copyable_v<V>>
 struct Scratch {
   V v[M];
   LS_HD_INLINE V* data() { return v; }
@@ -272,91 +343,32 @@ struct Scratch<V, M, true> {
   V& operator[](int k) { return data()[k]; }
 };
 
-// Eq 99's step length for the impulses that a manifold's points propose
-// together: `impulse(k, n)` is point k's proposed impulse (0: none) and
-// `pull(k, r1, r2, n)` the velocity change it asks for, both in world axes;
-// `A`, `B` the two sides (only their masses and inertia are used); points
-// k >= `end` are not contacts.
-// With R the largest component of any impulse (a common scale that keeps the
-// sums inside Q16.16), a = sum_k (J_k / R) . pull_k and b = sum_k (J_k / R) . dv_k,
-// dv_k being the velocity change at point k that all impulses cause together.
-// With `deltas` (and `formed`), point k's eq 87 velocity changes are kept in
-// deltas[k] and formed[k] tells whether they were formed (a non-zero
-// impulse); with `impulses`, point k's impulse is kept in impulses[k] (read
-// only where formed[k]).
-template <int N, class T, class Point, class Impulse, class Pull>
-LS_HD_INLINE T manifold_step(const BodyView<T>& A, const BodyView<T>& B, const Point& point, const Impulse& impulse,
-                      const Pull& pull, ImpulseDelta<T>* deltas = nullptr, bool* formed = nullptr,
-                      Vec3<T>* impulses = nullptr, int end = N) {
-  BodyView<T> Z = A, Zb = B;  // the sides at rest: they gather the impulses' velocity change
-  Z.v = Z.w = Zb.v = Zb.w = Vec3<T>{};
-  T reach{};
-#if defined(__CUDA_ARCH__)
-#pragma unroll 1
-#endif
-  for (int k = 0; k < end; ++k) {
-    if (formed != nullptr) formed[k] = false;
-    Vec3<T> r1, r2, n;
-    T penetration;
-    if (!point(k, r1, r2, n, penetration)) continue;
-    const Vec3<T> J = impulse(k, n);
-    if (J == Vec3<T>{}) continue;
-    const ImpulseDelta<T> dl = impulse_delta(Z, r1, Zb, r2, J);  // Z, Zb: A's and B's masses and inertia
-    apply_delta(Z, Zb, dl);
-    if (deltas != nullptr) { deltas[k] = dl; formed[k] = true; }
-    if (impulses != nullptr) impulses[k] = J;
-    reach = Num<T>::max(reach, max_abs(J));
-  }
-  if (!(reach > T{})) return Num<T>::from_int(1);
-  T a{}, b{};
-#if defined(__CUDA_ARCH__)
-#pragma unroll 1
-#endif
-  for (int k = 0; k < end; ++k) {
-    Vec3<T> r1, r2, n;
-    T penetration;
-    Vec3<T> J;
-    if (impulses != nullptr) {  // kept by the loop above: formed[k] is whether it is a contact with an impulse
-      if (!formed[k]) continue;
-      point(k, r1, r2, n, penetration);
-      J = impulses[k];
-    } else {
-      if (!point(k, r1, r2, n, penetration)) continue;
-      J = impulse(k, n);
-      if (J == Vec3<T>{}) continue;
-    }
-    const Vec3<T> w{J.x / reach, J.y / reach, J.z / reach};  // in [-1, 1]
-    a += dot(w, pull(k, r1, r2, n));
-    b += dot(w, relative_velocity(Z, r1, Zb, r2));
-  }
-  return manifold_step_length(a, b);
-}
-
 // One solver visit of a manifold (eq 99): a body A's contacts with one
 // immovable environment object B (its ground corners, its samples of one SDF
-// volume; r2 = 0), or the points of a body pair's box-box manifold (eq 105; B
-// the other body, r2 its lever arms), solved Jacobi-style so that a
-// symmetric landing stays symmetric. Normal step: every point's impulse is proposed from the
+// volume; r2 = 0), the points of a body pair's box-box manifold (eq 105; B
+// the other body, r2 its lever arms), or one contact alone (N = 1:
+// solve_contact), solved Jacobi-style so that a symmetric landing stays
+// symmetric. Normal step: every point's impulse is proposed from the
 // velocities at the start of the visit (eqs 53, 94, 97), with each point's
-// effective mass scaled by split = max(1, o), o = sum_k m^-1 / k_n,k (the
-// points share one body, so their simultaneous impulses add up: o is 1 for a
-// unit cube's 4 bottom corners, 2 for 8 sunken corners, 3.8 for a tall thin
-// box standing); the proposals are scaled by the step length alpha of eq 99
-// (manifold_step_length), which stops the sum from overshooting through the
-// rotation (two corners at one end of a thin plate) and so from adding
-// energy; then all are applied. Friction step: the same, from the velocities
-// after the normal step (eqs 56-62, 88, 95).
+// effective mass m_n (eq 114) divided by split = max(1, o),
+// o = sum_k m^-1 / k_n,k (the points share one body, so their simultaneous
+// impulses add up: o is 1 for a unit cube's 4 bottom corners, 2 for 8 sunken
+// corners, 3.8 for a tall thin box standing); the proposals are scaled by the
+// step length alpha of eq 99 (manifold_step_length), which stops the sum from
+// overshooting through the rotation (two corners at one end of a thin plate)
+// and so from adding energy; then all are applied. Friction step: the same,
+// from the velocities after the normal step, through the tangent rows
+// (eqs 95, 128-129).
 // `point(k, r1, r2, n, penetration)` gives point k (k = 0..N-1; false: not a
-// contact), `row(k)` its normal row (eq 114: normal_row of the visit's two
-// sides; the normal step reads the point's velocity along n and applies its
-// impulse through it); `load(k)` and `store(k, state)` read and write its
-// solver state.
+// contact), `row(k)` its rows (eqs 114, 128-129: contact_rows of the visit's
+// two sides; World<T> returns a reference to the rows it formed once per
+// frame, the GPU engine forms them, and the visit keeps them);
+// `load(k)` and `store(k, state)` read and write its solver state.
 // The visit is skipped when the first point's k_n is 0 (both sides
 // immovable).
-// `k_scale` multiplies every point's effective masses on top of eq 99's
-// split: 1 is World<T>'s sequential visit; the GPU engine's Jacobi visits of
-// a pair of active bodies pass their mass splitting (docs/GPU.md), as
-// solve_contact's k_scale.
+// `k_scale` multiplies every point's inverse effective masses on top of eq
+// 99's split: 1 is World<T>'s sequential visit; the GPU engine's Jacobi
+// visits of a pair of active bodies pass their mass splitting (docs/GPU.md).
 // `split_given`: the visit's manifold_split, formed before the solve (World<T>,
 // once per frame); nullptr: formed here from the points (the same value).
 template <int N, class T, class Point, class Row, class Load, class Store>
@@ -366,51 +378,33 @@ LS_HD void solve_manifold_rows(BodyView<T>& A, BodyView<T>& B, const Point& poin
                                const T* split_given = nullptr) {
   const T one = Num<T>::from_int(1);
   const T half = Num<T>::from_double(0.5);  // eq 113: a step shortened below it is partial progress
-  constexpr int M = kManifoldCache ? N : 1;
-  // kManifoldCache: the points and states, read once (the first loop below).
-  Scratch<Vec3<T>, M> pr1, pr2, pn;
-  Scratch<T, M> ppen;
-  Scratch<ContactState<T>, M> pst;
-  Scratch<NormalRow<T>, M> prow;
-  bool pok[M];
-  auto point = [&](int k, Vec3<T>& r1, Vec3<T>& r2, Vec3<T>& n, T& penetration) {
-    if constexpr (kManifoldCache) {
-      if (!pok[k]) return false;
-      r1 = pr1[k], r2 = pr2[k], n = pn[k], penetration = ppen[k];
-      return true;
-    } else {
-      return point_at(k, r1, r2, n, penetration);
-    }
-  };
-  auto row = [&](int k) -> std::conditional_t<kManifoldCache, const NormalRow<T>&, NormalRow<T>> {
-    if constexpr (kManifoldCache) return prow[k];
-    else return row_at(k);
-  };
-  auto load = [&](int k) -> std::conditional_t<kManifoldCache, const ContactState<T>&, ContactState<T>> {
-    if constexpr (kManifoldCache) return pst[k];
-    else return load_at(k);
-  };
+  // Rows given by reference (World<T>'s, formed once per frame) are read in
+  // place; rows formed by row_at are formed once here.
+  constexpr bool kRowsInPlace = std::is_reference_v<decltype(row_at(0))>;
+  Scratch<Vec3<T>, N> pn;
+  Scratch<T, N> ppen;
+  Scratch<ContactState<T>, N> pst;
+  Scratch<ContactRows<T>, kRowsInPlace ? 1 : N> prow;
+  const ContactRows<T>* rows[N] = {};
+  bool pok[N];
+  auto row = [&](int k) -> const ContactRows<T>& { return *rows[k]; };
   auto store = [&](int k, const ContactState<T>& st) {
-    if constexpr (kManifoldCache) pst[k] = st;
+    pst[k] = st;
     store_at(k, st);
   };
   T split = one;  // eq 99
   int count = 0, end = 0;  // end: 1 + the last point that is a contact
   {
     T o{};
-#if defined(__CUDA_ARCH__)
-#pragma unroll 1
-#endif
     for (int k = 0; k < N; ++k) {
       Vec3<T> r1, r2, n;
       T penetration;
-      const bool ok = point_at(k, r1, r2, n, penetration);
-      if constexpr (kManifoldCache) {
-        pok[k] = ok;
-        if (ok) pr1[k] = r1, pr2[k] = r2, pn[k] = n, ppen[k] = penetration, pst[k] = load_at(k), prow[k] = row_at(k);
-      }
-      if (!ok) continue;
-      const T k_n = load(k).k_n;
+      pok[k] = point_at(k, r1, r2, n, penetration);
+      if (!pok[k]) continue;
+      pn[k] = n;
+      ppen[k] = penetration;
+      pst[k] = load_at(k);
+      const T k_n = pst[k].k_n;
       if (count == 0 && !(k_n > T{})) return;  // both sides immovable
       ++count;
       end = k + 1;
@@ -420,140 +414,114 @@ LS_HD void solve_manifold_rows(BodyView<T>& A, BodyView<T>& B, const Point& poin
     split = split_given != nullptr ? *split_given : manifold_split(o, count);
     if (!(k_scale == one)) split = split * k_scale;
   }
+  const T inv_split = split == one ? one : one / split;  // eq 99: the effective masses' share
+  for (int k = 0; k < end; ++k) {
+    if (!pok[k]) continue;
+    if constexpr (kRowsInPlace) {
+      rows[k] = &row_at(k);
+    } else {
+      prow[k] = row_at(k);
+      rows[k] = &prow[k];
+    }
+  }
   Scratch<T, N> dj, res;
-#if defined(__CUDA_ARCH__)
-#pragma unroll 1
-#endif
   for (int k = 0; k < end; ++k) {
     dj[k] = res[k] = T{};
-    Vec3<T> r1, r2, n;
-    T penetration;
-    if (!point(k, r1, r2, n, penetration)) continue;
-    const ContactState<T>& c = load(k);
+    if (!pok[k]) continue;
+    const ContactState<T>& c = pst[k];
     ++counts.solver_contacts;
-    const T v_n = normal_velocity(A, B, row(k), n);  // eqs 48-49 (eq 114), at the visit's start
+    const T v_n = normal_velocity(A, B, row(k), pn[k]);  // eqs 48-49 (eq 114), at the visit's start
     // Only approaching contacts bounce (the fix of 3.1): the target -e v_n0 uses v_n0 <= 0.
-    const T target = contact_target_velocity(penetration, c.e, Num<T>::min(c.v_n0, T{}),
-                                             gravity_pressing(B, n, gravity, P), P.dt, P.inv_dt);  // eq 97
+    const T target = contact_target_velocity(ppen[k], c.e, Num<T>::min(c.v_n0, T{}),
+                                             gravity_pressing(B, pn[k], gravity, P), P.dt, P.inv_dt);  // eq 97
     T j_n = c.j_n;
-    dj[k] = accumulate_normal_impulse(j_n, v_n, target, c.k_n * split);  // eqs 53, 94, 99
+    dj[k] = accumulate_normal_impulse(j_n, v_n, target, row(k).m_n * inv_split);  // eqs 53, 94, 99
     res[k] = target - v_n;
   }
-  // kManifoldCache: eq 87's velocity changes as manifold_step formed them,
-  // applied as they are when the step is 1 (the impulses unchanged).
-  Scratch<ImpulseDelta<T>, M> delta;
-  bool formed[M];
-  Scratch<Vec3<T>, M> impulse;
+  // Eq 87's velocity changes as the step formed them, applied as they are
+  // when the step is 1 (the impulses unchanged).
+  Scratch<ImpulseDelta<T>, N> delta;
+  bool formed[N];
   bool cached = false;
   if (count > 1) {
-    const T alpha = normal_manifold_step<N>(A, B, point, row, dj.data(), res.data(), end,
-                                            kManifoldCache ? delta.data() : nullptr,
-                                            kManifoldCache ? formed : nullptr);  // eqs 99, 114
+    const T alpha = normal_manifold_step<N>(A, B, pok, pn.data(), row, dj.data(), res.data(), end, delta.data(),
+                                            formed);  // eqs 99, 114
     if (alpha < one) {
       if (alpha < half) ++counts.shortened_steps;  // eq 113: less than half the proposals' change
       for (int k = 0; k < end; ++k) dj[k] = dj[k] * alpha;
     } else {
-      cached = kManifoldCache;
+      cached = true;
     }
   }
-#if defined(__CUDA_ARCH__)
-#pragma unroll 1
-#endif
   for (int k = 0; k < end; ++k) {
-    Vec3<T> r1, r2, n;
-    T penetration;
-    if (dj[k] == T{} || !point(k, r1, r2, n, penetration)) continue;
-    ContactState<T> c = load(k);
+    if (dj[k] == T{} || !pok[k]) continue;
+    ContactState<T> c = pst[k];
     c.j_n += dj[k];  // eq 94: stays >= 0, alpha <= 1
     store(k, c);
-    if (cached && formed[k]) apply_delta(A, B, delta[k]);  // eq 87, as formed by normal_manifold_step
-    else apply_delta(A, B, normal_delta(A, B, row(k), n, dj[k]));  // eqs 87, 114
+    if (cached && formed[k]) apply_delta(A, B, delta[k]);            // eq 87, as the step formed it
+    else apply_delta(A, B, normal_delta(A, B, row(k), pn[k], dj[k]));  // eqs 87, 114
     ++counts.normal_impulses;
   }
   if (!friction) return;
-  // Friction (eqs 56-62, 88, 95). Of a manifold (eq 99), first the cone: a
-  // friction impulse left above mu J_n when J_n has since dropped is pulled
-  // back onto the cone, whole (a projection, not a step to be shortened: with
-  // it inside the proposals, a step length that tends to 0 as a tends to 0+
-  // and jumps to 1 at a <= 0 left friction above the cone in one engine and
-  // not in another). A single point does both in eq 95's one step.
+  // Friction (eqs 56-62, 95, 128-129). Of a manifold (eq 99), first the cone:
+  // a friction impulse left above mu J_n when J_n has since dropped is
+  // pulled back onto the cone, whole (a projection, not a step to be
+  // shortened: with it inside the proposals, a step length that tends to 0
+  // as a tends to 0+ and jumps to 1 at a <= 0 left friction above the cone in
+  // one engine and not in another). A single point does both in eq 95's one
+  // step.
   if (count > 1) {
-#if defined(__CUDA_ARCH__)
-#pragma unroll 1
-#endif
     for (int k = 0; k < end; ++k) {
-      Vec3<T> r1, r2, n;
-      T penetration;
-      if (!point(k, r1, r2, n, penetration)) continue;
-      ContactState<T> c = load(k);
+      if (!pok[k]) continue;
+      ContactState<T> c = pst[k];
       if (c.j_t == Vec3<T>{}) continue;
       const Vec3<T> inside = clamp_to_cone(c.j_t, c.mu * c.j_n);  // eq 95's clamp
       if (inside == c.j_t) continue;
       const Vec3<T> back = inside - c.j_t;
       c.j_t = inside;
       store(k, c);
-      apply_impulse(A, r1, B, r2, back);  // eqs 61-62, 87
+      apply_delta(A, B, tangent_delta(A, B, row(k), back));  // eqs 61-62, 87, 129
       ++counts.friction_steps;
     }
   }
-  const BodyView<T> A1 = A, B1 = B;
   Scratch<Vec3<T>, N> dJ;
-  Scratch<Vec3<T>, M> vrel;  // kManifoldCache: eq 48 at each point, for the step's pull
-#if defined(__CUDA_ARCH__)
-#pragma unroll 1
-#endif
+  Scratch<T, N> vt0, vt1;  // the sliding velocities at the step's start: its pull
   for (int k = 0; k < end; ++k) {
     dJ[k] = Vec3<T>{};
-    Vec3<T> r1, r2, n;
-    T penetration;
-    if (!point(k, r1, r2, n, penetration)) continue;
-    const ContactState<T>& c = load(k);
+    if (!pok[k]) continue;
+    const ContactState<T>& c = pst[k];
     if (!(c.j_n > T{}) && c.j_t == Vec3<T>{}) continue;
-    const Vec3<T> vr = relative_velocity(A1, r1, B1, r2);  // eq 48
-    if constexpr (kManifoldCache) vrel[k] = vr;
-    const Vec3<T> v_tan = tangential_velocity(vr, n);  // eq 56
-    Vec3<T> t;
-    const bool sliding = direction_of(v_tan, t);                                   // eq 57: |v_tan| > 0, t = v_tan / |v_tan|
-    const T k_t = sliding ? inverse_effective_mass(A1, r1, B1, r2, t) * split : one;  // eqs 60, 88, 99
+    T vt[2];
+    tangent_velocity(A, B, row(k), vt);  // eqs 48, 56, 129
+    vt0[k] = vt[0];
+    vt1[k] = vt[1];
     Vec3<T> j_t = c.j_t;
-    dJ[k] = accumulate_friction_impulse(j_t, v_tan, k_t, c.mu, c.j_n);  // eq 95
+    dJ[k] = accumulate_friction_impulse(j_t, vt, row(k), inv_split, c.mu, c.j_n);  // eqs 95, 99, 129
   }
   cached = false;
   if (count > 1) {
-    const T alpha = manifold_step<N>(
-        A1, B1, point, [&](int k, const Vec3<T>&) { return dJ[k]; },
-        [&](int k, const Vec3<T>& r1, const Vec3<T>& r2, const Vec3<T>&) {
-          if constexpr (kManifoldCache) return -vrel[k];  // pull is only asked of a point with an impulse
-          else return -relative_velocity(A1, r1, B1, r2);
-        },  // eq 99
-        kManifoldCache ? delta.data() : nullptr, kManifoldCache ? formed : nullptr,
-        kManifoldCache ? impulse.data() : nullptr,
-        end);
+    const T alpha = friction_manifold_step<N>(A, B, pok, row, dJ.data(), vt0.data(), vt1.data(), end, delta.data(),
+                                              formed);  // eqs 99, 129
     if (alpha < one) {
       if (alpha < half) ++counts.shortened_steps;  // eq 113: less than half the proposals' change
       for (int k = 0; k < end; ++k) dJ[k] = dJ[k] * alpha;
     } else {
-      cached = kManifoldCache;
+      cached = true;
     }
   }
-#if defined(__CUDA_ARCH__)
-#pragma unroll 1
-#endif
   for (int k = 0; k < end; ++k) {
-    Vec3<T> r1, r2, n;
-    T penetration;
-    if (dJ[k] == Vec3<T>{} || !point(k, r1, r2, n, penetration)) continue;
-    ContactState<T> c = load(k);
+    if (!pok[k] || dJ[k] == Vec3<T>{}) continue;
+    ContactState<T> c = pst[k];
     c.j_t += dJ[k];
     store(k, c);
-    if (cached && formed[k]) apply_delta(A, B, delta[k]);  // eqs 61-62, 87, as formed by manifold_step
-    else apply_impulse(A, r1, B, r2, dJ[k]);                // eqs 61-62, 87
+    if (cached && formed[k]) apply_delta(A, B, delta[k]);      // eqs 61-62, 87, as the step formed it
+    else apply_delta(A, B, tangent_delta(A, B, row(k), dJ[k]));  // eqs 61-62, 87, 129
     ++counts.friction_steps;
   }
 }
 
-// A manifold visit whose rows (eq 114) are formed on the spot from the
-// visit's two sides (the GPU engine's visits; World<T> passes the rows it
+// A manifold visit whose rows (eqs 114, 128-129) are formed by the visit
+// from its two sides (the GPU engine's visits; World<T> passes the rows it
 // formed once per frame from the same sides: the same values).
 template <int N, class T, class Point, class Load, class Store>
 LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point, const Load& load, const Store& store,
@@ -562,7 +530,7 @@ LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point, co
     Vec3<T> r1, r2, n;
     T penetration;
     point(k, r1, r2, n, penetration);
-    return normal_row(A, r1, B, r2, n);
+    return contact_rows(A, r1, B, r2, n, load(k).k_n);
   };
   solve_manifold_rows<N>(A, B, point, row, load, store, friction, gravity, k_scale, P, counts);
 }
@@ -573,6 +541,31 @@ template <int N, class T, class Point, class Load, class Store>
 LS_HD void solve_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point, const Load& load, const Store& store,
                           bool friction, bool gravity, const Params<T>& P, SolveCounts& counts) {
   solve_manifold<N>(A, B, point, load, store, friction, gravity, Num<T>::from_int(1), P, counts);
+}
+
+// One solver visit of one contact (eqs 48-49, 53, 56, 87, 94-95, 97,
+// 128-129): a manifold of one point (eq 99 with N = 1: no split, no step).
+// A is body 1, B body 2, n points from B to A; A and B are updated in place.
+// `k_scale` as solve_manifold's: 1 is World<T>'s sequential visit of a body
+// pair; the GPU engine's Jacobi visits of body-body contacts pass the larger
+// contact count of the two bodies (mass splitting, docs/GPU.md). With `rows`,
+// the contact's rows formed before the solve (World<T>); without, formed here.
+template <class T>
+LS_HD void solve_contact(BodyView<T>& A, const Vec3<T>& r1, BodyView<T>& B, const Vec3<T>& r2, const Vec3<T>& n,
+                         const T& penetration, ContactState<T>& c, bool friction, bool gravity, const T& k_scale,
+                         const Params<T>& P, SolveCounts& counts, const ContactRows<T>* rows = nullptr) {
+  auto point = [&](int, Vec3<T>& pr1, Vec3<T>& pr2, Vec3<T>& pn, T& pen) {
+    pr1 = r1, pr2 = r2, pn = n, pen = penetration;
+    return true;
+  };
+  auto load = [&](int) { return c; };
+  auto store = [&](int, const ContactState<T>& st) { c = st; };
+  if (rows != nullptr) {
+    auto row = [&](int) -> const ContactRows<T>& { return *rows; };
+    solve_manifold_rows<1>(A, B, point, row, load, store, friction, gravity, k_scale, P, counts);
+  } else {
+    solve_manifold<1>(A, B, point, load, store, friction, gravity, k_scale, P, counts);
+  }
 }
 
 }  // namespace lockstep
