@@ -106,10 +106,14 @@ LS_HD inline void store_min(int* target, int v) {
 // device through the read-only data path (ld.global.nc), which lets the
 // compiler issue it ahead of the kernel's stores (more loads in flight);
 // a plain load in the host build. Only the data path differs, never the value.
-LS_HD inline F4 ro(const F4* p) {
+template <class T>
+LS_HD inline T4<T> ro(const T4<T>* p) {
 #if defined(__CUDA_ARCH__)
-  const float4 v = __ldg(reinterpret_cast<const float4*>(p));
-  return F4{v.x, v.y, v.z, v.w};
+  static_assert(sizeof(T4<T>) == sizeof(int4), "a group is one 128-bit load");
+  const int4 v = __ldg(reinterpret_cast<const int4*>(p));
+  T4<T> r;
+  __builtin_memcpy(&r, &v, sizeof r);
+  return r;
 #else
   return *p;
 #endif
@@ -148,19 +152,18 @@ struct NeighbourLists {
 };
 
 // ---------------------------------------------------------------------------
-// Bit equality of two floats (NaN included): the fixed-point sweeps stop
-// when a sweep reproduces its input exactly.
-LS_HD inline bool same_bits(float x, float y) {
-#if defined(__CUDA_ARCH__)
-  return __float_as_uint(x) == __float_as_uint(y);
-#else
+// Bit equality of two values (NaN included): the fixed-point sweeps stop
+// when a sweep reproduces its input exactly. Both number types are 4 bytes.
+template <class T>
+LS_HD inline bool same_bits(const T& x, const T& y) {
+  static_assert(sizeof(T) == 4, "float or Q16");
   unsigned ux, uy;
   __builtin_memcpy(&ux, &x, sizeof ux);
   __builtin_memcpy(&uy, &y, sizeof uy);
   return ux == uy;
-#endif
 }
-LS_HD inline bool same_bits(const F4& a, const F4& b) {
+template <class T>
+LS_HD inline bool same_bits(const T4<T>& a, const T4<T>& b) {
   return same_bits(a.x, b.x) && same_bits(a.y, b.y) && same_bits(a.z, b.z) && same_bits(a.w, b.w);
 }
 

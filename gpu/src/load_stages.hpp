@@ -18,9 +18,11 @@ namespace lockstep::gpu {
 // One sweep: out[i] = (offset D, mass M) of body i's load from its load
 // children's previous values in[j] (eq 117; `in` zero before the first).
 // `changed` counts the bodies whose result differs from `in`.
+template <class T>
 struct LoadK {
+  using F4 = T4<T>;
   const int* list;
-  BodyArrays b;
+  BodyArrays<T> b;
   NeighbourLists lists;
   const int* load_parent;  // per body (ContactsK)
   const F4* in;
@@ -38,8 +40,8 @@ struct LoadK {
         f(lj.w, xyz(ro(b.pos + j)), xyz(lj));
       }
     };
-    float mass;
-    Vec3<float> offset;
+    T mass;
+    Vec3<T> offset;
     sum_load(inv_mass_of(pi4), xyz(pi4), each_child, mass, offset);  // eq 117
     const F4 result = f4(offset, mass);
     out[i] = result;
@@ -54,10 +56,12 @@ struct LoadK {
 // (eq 112) and whose load's centre is not over its support points tips with
 // its load: not over its support (no settling; eq 112's chain reads it) and
 // it cannot rest (no sleep candidate).
+template <class T>
 struct LoadOverK {
+  using F4 = T4<T>;
   const int* list;
-  BodyArrays b;
-  SceneConsts sc;
+  BodyArrays<T> b;
+  SceneConsts<T> sc;
   NeighbourLists lists;
   const int* load_parent;
   const int* support_idx;
@@ -76,10 +80,10 @@ struct LoadOverK {
       carries = is_awake(ro(b.flags + j)) && ro(load_parent + j) == i;
     }
     if (!carries) return;
-    Vec3<float> r[kMaxSupportPoints];
+    Vec3<T> r[kMaxSupportPoints];
     const int count = ro(n_arms + k);
     for (int a = 0; a < count && a < kMaxSupportPoints; ++a) r[a] = xyz(ro(arms + k * kMaxSupportPoints + a));
-    const Vec3<float> up{0.0f, Num<float>::from_int(1), 0.0f};
+    const Vec3<T> up{T{}, Num<T>::from_int(1), T{}};
     if (load_over_support(r, count, xyz(ro(load + i)), up, length(xyz(ro(b.ang + i))) < sc.P.sleep_angular)) return;
     over_support[i] = 0;
     can_rest[i] = 0;
@@ -91,9 +95,10 @@ struct LoadOverK {
 // before the first); the fixed point is World<T>'s top-down pass. The last
 // call (`can_rest` set, `changed` null) also takes a body whose load
 // children's loads tip out of the sleep candidates.
+template <class T>
 struct LoadTipsK {
   const int* list;
-  BodyArrays b;
+  BodyArrays<T> b;
   NeighbourLists lists;
   const int* load_parent;
   const int* over_support;  // per body (eq 112, LoadOverK)
