@@ -38,6 +38,7 @@ struct CommitSleepK {
   const int* can_rest = nullptr;  // per body: statics lets it rest (eqs 116, 117)
   LS_HD void operator()(int k) const {
     const int i = list[k];
+    clear_faults<T>();
     const F4 p4 = p_in[k];
     const Quat<T> q = quat(q_in[k]);
     b.pos[i] = p4;
@@ -45,6 +46,7 @@ struct CommitSleepK {
     const Mat3<T> R = rotation_matrix(q);
     const Vec3<T> a = rotated_half_extents(R, xyz(b.half[i]));  // eq 31
     b.aabb[i] = f4(a, Num<T>::max(a.x, Num<T>::max(a.y, a.z)));
+    note_faults<T>(sc.faults, i, kFqPosition);  // eq 31: World<T>::update_derived in stage 8
     Vec3<T> v = xyz(b.vel[i]), w = xyz(b.ang[i]);
     bool asleep = false;
     if (sc.sleep) {
@@ -65,6 +67,7 @@ struct CommitSleepK {
         b.sleep_frame[i] = frame;
       }
     }
+    note_faults<T>(sc.faults, i, kFqSleep);
     keep[k] = asleep ? 0 : 1;
     if (!asleep) {
       auto fin = [](const Vec3<T>& x) { return Num<T>::finite(x.x) && Num<T>::finite(x.y) && Num<T>::finite(x.z); };

@@ -17,7 +17,9 @@ template <class T>
 LS_HD inline PairContact<T> canonical_pair(const SceneConsts<T>& sc, int self, const Vec3<T>& p,
                                                const Vec3<T>& a, int j, const Vec3<T>& pj,
                                                const Vec3<T>& aj) {
-  const T tol = sc.P.contact_tolerance;
+  // World<T>'s narrowphase: the two growths together (in Q16.16 not the
+  // contact tolerance itself, whose half rounds: 655 raw halves to 328).
+  const T tol = sc.half_tol + sc.half_tol;
   return self < j ? pair_contact(p, a, pj, aj, sc.half_tol, tol) : pair_contact(pj, aj, p, a, sc.half_tol, tol);
 }
 

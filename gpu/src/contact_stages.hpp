@@ -119,10 +119,13 @@ struct ContactsK {
     const int stride = sc.imm_stride();
     const Vec3<T> zero{};
     BodyView<T> B = immovable_view<T>();
+    note_faults<T>(sc.faults, c.i, e < sc.ground_slots() ? kFqGround : kFqSdf);
     ContactState<T> cs = prepare_contact(c.self0, r1, B, zero, n, c.e_self, c.mu_self, e2, mu2, sc.restitution,
                                              sc.friction, sc.P, c.counts);
+    note_faults<T>(sc.faults, c.i, kFqPreparation);
     const F4 cached = cached_ok ? ro(&prev.imm[c.prev_slot * stride + e].a) : F4{};
     if (cached.x > T{}) warm_start_contact(c.self, r1, B, zero, n, cs, cached.x, sc.P);
+    note_faults<T>(sc.faults, c.i, kFqWarmStart);
     store_state(cs, d.imm[c.k * stride + e].a, d.imm[c.k * stride + e].b);
   }
 
@@ -145,6 +148,7 @@ struct ContactsK {
       immovable(c, q, corner - c.p, up, sc.ground_e, sc.ground_mu, ((prev_mask >> q) & 1) != 0);
     }
     ground_mask[c.k] = mask;
+    note_faults<T>(sc.faults, c.i, kFqGround);
   }
 
   // Each SDF volume's 9 samples (eqs 33-37, 93, 97).
@@ -171,6 +175,7 @@ struct ContactsK {
         immovable(c, e, xyz(c1) - c.p, xyz(c0), mat.x, mat.y, c.had);
       }
     }
+    note_faults<T>(sc.faults, c.i, kFqSdf);
   }
 
   // Last frame's entry of the pair with j: the body's own (walking its
@@ -190,17 +195,20 @@ struct ContactsK {
   // cached impulse, its warm start of the body's own velocity.
   LS_HD_INLINE ContactState<T> pair_point(BodyContacts<T>& c, bool lower, const BodyView<T>& other0, T e_o,
                                               T mu_o, const Vec3<T>& r1, const Vec3<T>& r2,
-                                              const Vec3<T>& n, T cached, SolveCounts& here) const {
+                                              const Vec3<T>& n, T cached, SolveCounts& here, int lo) const {
     const SceneConsts<T>& sc = d.sc;
+    note_faults<T>(sc.faults, lo, kFqPairContact);
     ContactState<T> cs = prepare_contact(pick(lower, c.self0, other0), r1, pick(lower, other0, c.self0), r2, n,
                                              lower ? c.e_self : e_o, lower ? c.mu_self : mu_o, lower ? e_o : c.e_self,
                                              lower ? mu_o : c.mu_self, sc.restitution, sc.friction, sc.P, here);
+    note_faults<T>(sc.faults, lo, kFqPreparation);
     if (cached > T{}) {
       BodyView<T> A = pick(lower, c.self, other0), B = pick(lower, other0, c.self);
       warm_start_contact(A, r1, B, r2, n, cs, cached, sc.P);
       c.self.v = pick(lower, A.v, B.v);
       c.self.w = pick(lower, A.w, B.w);
     }
+    note_faults<T>(sc.faults, lo, kFqWarmStart);
     return cs;
   }
 
@@ -229,6 +237,7 @@ struct ContactsK {
     }
     rec.deepest = deepest_point(mf.penetration, mf.count);
     rec.depth = mean_depth(mf.penetration, mf.count);  // eq 110
+    note_faults<T>(sc.faults, lower ? i : j, kFqPairContact);
     if (edges.mate != nullptr) init_edge(edges, d.lists, i, t, j, j_awake && mf.count > 0, c.p.y, pj.y);
     if (mf.count == 0) return;
     if (!j_awake) ++c.immovable_bodies;
@@ -251,7 +260,7 @@ struct ContactsK {
       T cached = T{};  // eq 96: the same feature's impulse last frame
       for (int w = 0; w < prev_count; ++w)
         if (ro(&prev.man[prev_t].feature[w]) == mf.feature[u]) { cached = ro(&prev.man[prev_t].st[w].a).x; break; }
-      const ContactState<T> cs = pair_point(c, lower, other0, e_o, mu_o, r1, r2, mf.n, cached, here);
+      const ContactState<T> cs = pair_point(c, lower, other0, e_o, mu_o, r1, r2, mf.n, cached, here, lower ? i : j);
       store_state(cs, rec.st[u].a, rec.st[u].b);
     }
     if (lower || other0.inv_mass == T{}) c.counts.restitution_bounces += here.restitution_bounces;
@@ -265,6 +274,7 @@ struct ContactsK {
     const Vec3<T> pj = xyz(ro(b.pos + j));
     const bool lower = i < j;
     const PairContact<T> pc = canonical_pair(sc, i, c.p, c.a, j, pj, xyz(ro(b.aabb + j)));
+    note_faults<T>(sc.faults, lower ? i : j, kFqPairContact);
     const Vec3<T> n_i = lower ? pc.n : -pc.n;  // towards body i
     const bool j_awake = is_awake(ro(b.flags + j));
     if (!j_awake) ++c.immovable_bodies;
@@ -283,7 +293,7 @@ struct ContactsK {
     const int prev_t = previous_entry(c, j);
     const F4 cached = prev_t >= 0 ? ro(&prev.pair[prev_t].a) : F4{};
     SolveCounts here;
-    const ContactState<T> cs = pair_point(c, lower, other0, e_o, mu_o, r1, r2, pc.n, cached.x, here);
+    const ContactState<T> cs = pair_point(c, lower, other0, e_o, mu_o, r1, r2, pc.n, cached.x, here, lower ? i : j);
     if (lower || other0.inv_mass == T{}) c.counts.restitution_bounces += here.restitution_bounces;
     store_state(cs, d.pair[t].a, d.pair[t].b);
   }
@@ -324,6 +334,7 @@ struct ContactsK {
     c.k = k;
     c.i = ro(d.list + k);
     const int i = c.i;
+    clear_faults<T>();
     const F4 pi4 = ro(b.pos + i), h4 = ro(b.half + i), in4 = ro(b.inert + i);
     c.p = xyz(pi4);
     c.a = xyz(ro(b.aabb + i));
@@ -349,7 +360,9 @@ struct ContactsK {
     dir_count[i] = c.directions;
     has_immovable[k] = c.ground_contacts + c.sdf_contacts + c.immovable_bodies > 0 ? 1 : 0;
     if (c.pair_points > 0) add_counter(&ctr[kCBodyContacts], c.pair_points);
+    note_faults<T>(sc.faults, i, kFqLoad);  // eqs 75, 98, 112: the support
     write_support(c);
+    note_faults<T>(sc.faults, i, kFqLoad);  // eqs 112, 115-117
     vout[i] = f4(c.self.v, T{});
     wout[i] = f4(c.self.w, T{});
     add_counter(&ctr[kCGroundContacts], c.ground_contacts);

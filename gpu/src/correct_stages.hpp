@@ -38,6 +38,7 @@ struct CorrectIntegrateK {
   F4* p_world = nullptr;  // oriented-box model: the position after the world's corrections, per slot (eq 110 goes on)
   LS_HD void operator()(int k) const {
     const int i = ro(list + k);
+    clear_faults<T>();
     const F4 pi4 = ro(b.pos + i);
     const Vec3<T> p0 = xyz(pi4), a = xyz(ro(b.aabb + i));
     const T inv_self = inv_mass_of(pi4);
@@ -58,6 +59,7 @@ struct CorrectIntegrateK {
         add_counter(&ctr[kCSettlingBodies], 1u);
       }
     }
+    note_faults<T>(sc.faults, i, kFqSettling);
     b.vel[i] = f4(vf, T{});
     b.ang[i] = f4(wf, T{});
     unsigned corrections = 0;
@@ -109,6 +111,7 @@ struct CorrectIntegrateK {
       baumgarte_correction(p, dummy, xyz(c0), c0.w - dot(p - p0, xyz(c0)), inv_self, T{}, slop, percent);
       ++corrections;
     }
+    note_faults<T>(sc.faults, i, kFqCorrection);
     if (p_world != nullptr) {  // the pairs' corrections (eq 110) and the integration follow
       p_world[k] = f4(p, inv_self);
       add_counter(&ctr[kCCorrections], corrections);
@@ -116,6 +119,7 @@ struct CorrectIntegrateK {
     }
     Quat<T> q = q0;
     integrate_pose(p, q, vf, wf, sc.P);  // eqs 2, 7-10
+    note_faults<T>(sc.faults, i, kFqPosition);
     p_out[k] = f4(p, inv_self);
     q_out[k] = f4(q);
     add_counter(&ctr[kCCorrections], corrections);

@@ -75,6 +75,7 @@ struct GatherK {
   LS_HD void operator()(int k) const {
     const int i = ro(list + k);
     const int slot = slot0 + k;
+    clear_faults<T>();
     index.slot_of[i] = slot;
     index.stamp[i] = frame;
     const Vec3<T> p = xyz(ro(b.pos + i)), a = xyz(ro(b.aabb + i));
@@ -87,9 +88,15 @@ struct GatherK {
     // World<T>'s pair test: the AABBs grown by half the contact tolerance
     // (eqs 38-39, 97), or, oriented-box model, by each body's growth (107).
     auto touches = [&](int j, const Vec3<T>& pj, const Vec3<T>& aj) {
-      if (!oriented) return canonical_pair(sc, i, p, a, j, pj, aj).hit;
-      const T gj = ro(grow + j);
-      return i < j ? grown_overlap(p, a, gi, pj, aj, gj) : grown_overlap(pj, aj, gj, p, a, gi);
+      bool hit;
+      if (!oriented) {
+        hit = canonical_pair(sc, i, p, a, j, pj, aj).hit;
+      } else {
+        const T gj = ro(grow + j);
+        hit = i < j ? grown_overlap(p, a, gi, pj, aj, gj) : grown_overlap(pj, aj, gj, p, a, gi);
+      }
+      note_faults<T>(sc.faults, i < j ? i : j, kFqPairContact);
+      return hit;
     };
     visit_candidates(awake_grid, i, p, reach, tested, [&](int j, const Vec3<T>& pj, const Vec3<T>& aj) {
       if (!touches(j, pj, aj)) return;
@@ -120,6 +127,7 @@ struct GatherK {
             for (int q = 0; q < mf.count && !wakes_j; ++q)
               wakes_j = wake_test(va, !i_is_a, vb, i_is_a, mf.n, mf.penetration[q], sc.P);
           }
+          note_faults<T>(sc.faults, i < j ? i : j, kFqPairContact);
           if (wakes_j && claim_flag(&wake_flag[j])) woken[fetch_add(n_woken, 1)] = j;
         }
       };

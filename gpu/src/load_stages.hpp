@@ -28,8 +28,10 @@ struct LoadK {
   const F4* in;
   F4* out;
   int* changed;
+  FaultSink faults{};
   LS_HD void operator()(int k) const {
     const int i = ro(list + k);
+    clear_faults<T>();
     const F4 pi4 = ro(b.pos + i);
     const int beg = lists.begin(k), end = lists.end(k);
     auto each_child = [&](auto&& f) {  // its load children, ascending index (the neighbour list's order)
@@ -43,6 +45,7 @@ struct LoadK {
     T mass;
     Vec3<T> offset;
     sum_load(inv_mass_of(pi4), xyz(pi4), each_child, mass, offset);  // eq 117
+    note_faults<T>(faults, i, kFqLoad);
     const F4 result = f4(offset, mass);
     out[i] = result;
     if (changed != nullptr) {
@@ -74,6 +77,7 @@ struct LoadOverK {
   LS_HD void operator()(int k) const {
     const int i = ro(list + k);
     if (ro(support_idx + i) == kNoSupport || ro(held + k) != 0) return;
+    clear_faults<T>();
     bool carries = false;
     for (int t = lists.begin(k), end = lists.end(k); t < end && !carries; ++t) {
       const int j = ro(lists.nbr + t);
@@ -84,7 +88,9 @@ struct LoadOverK {
     const int count = ro(n_arms + k);
     for (int a = 0; a < count && a < kMaxSupportPoints; ++a) r[a] = xyz(ro(arms + k * kMaxSupportPoints + a));
     const Vec3<T> up{T{}, Num<T>::from_int(1), T{}};
-    if (load_over_support(r, count, xyz(ro(load + i)), up, length(xyz(ro(b.ang + i))) < sc.P.sleep_angular)) return;
+    const bool over = load_over_support(r, count, xyz(ro(load + i)), up, length(xyz(ro(b.ang + i))) < sc.P.sleep_angular);
+    note_faults<T>(sc.faults, i, kFqLoad);
+    if (over) return;
     over_support[i] = 0;
     can_rest[i] = 0;
   }

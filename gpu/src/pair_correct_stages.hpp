@@ -71,6 +71,7 @@ struct PairCorrectK {
   int* changed;         // entries whose result differs from `before_in`
   LS_HD void operator()(int k) const {
     const int i = ro(list + k);
+    clear_faults<T>();
     const F4 pi4 = ro(b.pos + i);
     const Vec3<T> p0 = xyz(pi4);
     Vec3<T> p = xyz(p_world[k]);
@@ -99,6 +100,7 @@ struct PairCorrectK {
                           is_support_pair(n, sc.P.support_normal_min), sc.P.slop, sc.P.baumgarte);  // eq 110
       p = lower ? pa : pb;
     });
+    note_faults<T>(sc.faults, i, kFqCorrection);
     p_out[k] = f4(p, inv_mass_of(pi4));
     if (changed != nullptr) add_to(changed, differ);
   }
@@ -133,6 +135,7 @@ struct PairTurnK {
   int* changed;         // entries whose result differs from the inputs
   LS_HD void operator()(int k) const {
     const int i = ro(list + k);
+    clear_faults<T>();
     const F4 pi4 = ro(b.pos + i);
     const Vec3<T> p0 = xyz(pi4);
     const Mat3<T> Ri = rotation_matrix(quat(ro(b.rot + i)));
@@ -172,6 +175,7 @@ struct PairTurnK {
       p = p0 + done.v;
       w = done.w;
     });
+    note_faults<T>(sc.faults, i, kFqCorrection);
     p_out[k] = f4(p, inv_mass_of(pi4));
     turn_slot[k] = f4(w, T{});
     if (changed != nullptr) add_to(changed, differ);
@@ -197,6 +201,7 @@ struct IntegrateK {
   Counter* ctr;
   LS_HD void operator()(int k) const {
     const int i = ro(list + k);
+    clear_faults<T>();
     const F4 pi4 = ro(b.pos + i);
     Vec3<T> p = xyz(p_in[k]);
     Quat<T> q = quat(ro(b.rot + i));
@@ -215,6 +220,7 @@ struct IntegrateK {
         if ((i < j || !j_awake) && (inv_mass_of(pi4) != T{} || (j_awake && inv_mass_of(ro(b.pos + j)) != T{}))) ++corrections;
       }
     }
+    note_faults<T>(sc.faults, i, kFqPosition);
     p_out[k] = f4(p, inv_mass_of(pi4));
     q_out[k] = f4(q);
     add_counter(&ctr[kCCorrections], corrections);

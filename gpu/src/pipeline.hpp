@@ -100,6 +100,11 @@ class Pipeline final : public PipelineBase<T> {
     sc_.n_large = n_large_;
     sc_.relaxation = Num<T>::from_double(options.relaxation);  // float -> double -> float: exact
     sc_.oriented = s.oriented;
+    if constexpr (Num<T>::kExact) {  // Q16 faults (kernel_support.hpp), reset each frame
+      fault_code_.resize(1);
+      fault_flags_.resize(1);
+      sc_.faults = FaultSink{fault_code_.data(), fault_flags_.data()};
+    }
     oriented_ = s.oriented;
     if (oriented_) {  // eqs 97, 107: every body's growth starts at half the tolerance; eq 108's records
       up(grow_, std::vector<T>(n, sc_.half_tol));
@@ -325,6 +330,8 @@ class Pipeline final : public PipelineBase<T> {
   Buf<int> keep_, keep_scan_;
   Grid awake_grid_, frozen_grid_;
   Buf<Counter> ctr_;
+  Buf<int> fault_code_;         // Q16: the frame's lowest fault (FaultSink::code)
+  Buf<unsigned> fault_flags_;   // Q16: the frame's fault flags
   // The coloured solver's edges (colouring.hpp): per list entry its mate,
   // key and colour; the pending lists of the colouring rounds; the edges
   // (owner entries) by colour; where each round's edges end; the counters.
@@ -401,9 +408,10 @@ class Pipeline final : public PipelineBase<T> {
     be_.fill_zero(sl_load_[0].data(), static_cast<std::size_t>(n_) + 1);
     const int r = sweep_until_fixed(heads + 2, [&](int in, int out, int* changed) {
       be_.for_n(heads, SleeperLoadK<T>{sl_heads_.data(), body_, sl_keys_[s].data(), sl_child_[s].data(), sl_begin_.data(),
-                                    sl_end_.data(), awake_loads, sl_load_[in].data(), sl_load_[out].data(), changed});
+                                    sl_end_.data(), awake_loads, sl_load_[in].data(), sl_load_[out].data(), changed,
+                                    sc_.faults});
     });
-    be_.for_n(heads, SleeperTestK<T>{sl_heads_.data(), sleep_records(), sl_load_[r].data(), sl_wake_.data()});
+    be_.for_n(heads, SleeperTestK<T>{sl_heads_.data(), sleep_records(), sl_load_[r].data(), sl_wake_.data(), sc_.faults});
     sl_n_heads_ = heads;
   }
   // eq 124, end of stage 9: the sleepers found beyond their support wake and
@@ -430,6 +438,10 @@ template <class B, class T>
 void Pipeline<B, T>::step() {
   ++frame_;
   be_.begin_frame();
+  if constexpr (Num<T>::kExact) {
+    be_.for_n(1, SetIntK{fault_code_.data(), 0x7fffffff});
+    be_.fill_zero(fault_flags_.data(), 1);
+  }
   int n_awake = n_awake_;
   int* active = list_[cur_].data();
   const bool contacts = fx_.contacts && n_ >= 2;
@@ -447,7 +459,7 @@ void Pipeline<B, T>::step() {
     });
     be_.fill_int(scal_.data(), 0, 1);
     be_.for_n(n_, SupportWakeApplyK<T>{body_, wake_sw_[r].data(), woken_.data(), scal_.data()});
-    be_.for_n(n_, RestLastK<T>{body_, rests()});  // eq 108's speed: where the points are now
+    be_.for_n(n_, RestLastK<T>{body_, rests(), sc_.faults});  // eq 108's speed: where the points are now
     const int n_woken = read_int(scal_.data());
     if (n_woken > 0) {
       be_.sort_ints(woken_.data(), woken_tmp_.data(), n_woken);
@@ -605,7 +617,8 @@ void Pipeline<B, T>::step() {
     for (auto& buf : load_) buf.resize(static_cast<std::size_t>(n_) + 1);
     be_.fill_zero(load_[0].data(), static_cast<std::size_t>(n_) + 1);
     const int r = sweep_until_fixed(n_active + 2, [&](int in, int out, int* changed) {
-      be_.for_n(n_active, LoadK<T>{active, body_, nl, load_parent_.data(), load_[in].data(), load_[out].data(), changed});
+      be_.for_n(n_active, LoadK<T>{active, body_, nl, load_parent_.data(), load_[in].data(), load_[out].data(), changed,
+                                   sc_.faults});
     });
     be_.for_n(n_active, LoadOverK<T>{active, body_, sc_, nl, load_parent_.data(), support_idx_.data(), load_[r].data(),
                                   arms_.data(), n_arms_.data(), held_.data(), over_support_.data(), can_rest_.data()});
@@ -790,6 +803,16 @@ void Pipeline<B, T>::step() {
   be_.end_frame(times_);
   if (new_awake != n_active) frozen_dirty_ = true;
   n_awake_ = new_awake;
+  if constexpr (Num<T>::kExact) {  // World<Q16>::check_faults: the frame, the body, the quantity
+    int code = 0x7fffffff;
+    unsigned flags = 0;
+    be_.download(&code, fault_code_.data(), 1);
+    be_.download(&flags, fault_flags_.data(), 1);
+    be_.sync();
+    if (code != 0x7fffffff)
+      throw RunError(frame_, code & ((1 << kFaultBodyBits) - 1), fault_quantity_name(code >> kFaultBodyBits, oriented_),
+                     q16_flag_name(flags));
+  }
   if (error != 0x7fffffff) {
     static const char* const kWhat[] = {"position", "velocity", "angular velocity", "orientation"};
     throw RunError(frame_, error / 4, kWhat[error % 4], "not finite (NaN or infinity)");

@@ -67,9 +67,11 @@ struct SettleK {
   int* unsettled;
   LS_HD void operator()(int k) const {
     const int i = ro(list + k);
+    clear_faults<T>();
     Vec3<T> v = xyz(ro(sweep.vpost + i));
     bool final = true;
     if (sweep.linear(b, i, sc.P, v, final) >= T{}) sout[i] = f4(v, final ? Num<T>::from_int(1) : T{});
+    note_faults<T>(sc.faults, i, kFqSettling);
     if (unsettled != nullptr) add_to(unsettled, final ? 0 : 1);
   }
 };

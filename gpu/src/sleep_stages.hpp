@@ -50,6 +50,7 @@ struct SupportWakeK {
   int* out;
   int* changed;   // bodies whose result differs from `in`
   LS_HD void operator()(int i) const {
+    clear_faults<T>();
     int woke = 0;
     const int n = (ro(b.flags + i) & kFlagAsleep) != 0 ? ro(rests.count + i) : 0;
     for (int r = 0; r < n && woke == 0; ++r) {
@@ -62,6 +63,7 @@ struct SupportWakeK {
                                sc.P))  // eq 108
         woke = 1;
     }
+    note_faults<T>(sc.faults, i, kFqSupportWake);
     out[i] = woke;
     if (changed != nullptr) add_to(changed, woke != ro(in + i) ? 1 : 0);
   }
@@ -73,8 +75,10 @@ template <class T>
 struct RestLastK {
   BodyArrays<T> b;
   RestArrays<T> rests;
+  FaultSink faults{};
   LS_HD void operator()(int i) const {
     if ((ro(b.flags + i) & kFlagAsleep) == 0) return;
+    clear_faults<T>();
     const int n = ro(rests.count + i);
     for (int r = 0; r < n; ++r) {
       const int s = ro(rests.body + kMaxRests * i + r);
@@ -82,6 +86,7 @@ struct RestLastK {
       rests.last[kMaxRests * i + r] =
           f4(support_point(xyz(ro(b.pos + s)), R, xyz(ro(rests.local + kMaxRests * i + r))), T{});
     }
+    note_faults<T>(faults, i, kFqSupportWake);
   }
 };
 
@@ -122,6 +127,7 @@ struct SleepSweepK {
   int* changed;
   LS_HD void operator()(int k) const {
     const int i = ro(list + k);
+    clear_faults<T>();
     int sleeps = ro(ready + k);
     const T yi = ro(b.pos + i).y;
     if (sleeps != 0 && man != nullptr) {
@@ -139,6 +145,7 @@ struct SleepSweepK {
         if (!(earlier && ro(in + ro(slot_of + j)) != 0)) sleeps = 0;
       }
     }
+    note_faults<T>(sc.faults, i, kFqSleep);
     out[k] = sleeps;
     if (changed != nullptr) add_to(changed, sleeps != ro(in + k) ? 1 : 0);
   }
@@ -170,6 +177,7 @@ struct SleepApplyK {
   LS_HD void operator()(int k) const {
     if (sleeps[k] == 0) return;
     const int i = list[k];
+    clear_faults<T>();
     if (records.parent != nullptr) {  // eq 124
       records.parent[i] = load_parent[i];
       const int count = n_arms[k];
@@ -210,6 +218,7 @@ struct SleepApplyK {
       }
     }
     rests.count[i] = n;
+    note_faults<T>(sc.faults, i, kFqSleep);
   }
 };
 

@@ -100,6 +100,7 @@ struct SleeperLoadK {
   const F4* in;
   F4* out;
   int* changed;
+  FaultSink faults{};
   LS_HD F4 load_of(int c) const {
     if (is_awake(ro(b.flags + c))) return ro(awake + c);
     if (ro(begin + c) >= 0) return ro(in + c);
@@ -107,6 +108,7 @@ struct SleeperLoadK {
   }
   LS_HD void operator()(int h) const {
     const int s = ro(heads + h);
+    clear_faults<T>();
     const F4 ps = ro(b.pos + s);
     const int beg = ro(begin + s), stop = ro(end + s);
     auto each_child = [&](auto&& f) {  // ascending index
@@ -119,6 +121,7 @@ struct SleeperLoadK {
     T mass;
     Vec3<T> offset;
     sum_load(inv_mass_of(ps), xyz(ps), each_child, mass, offset);  // eq 117's sums
+    note_faults<T>(faults, s, kFqSleeperLoad);
     const F4 result = f4(offset, mass);
     out[s] = result;
     if (changed != nullptr) {
@@ -137,12 +140,15 @@ struct SleeperTestK {
   SleepSupportArrays<T> rec;
   const F4* load;
   int* wake;  // per head
+  FaultSink faults{};
   LS_HD void operator()(int h) const {
     const int s = ro(heads + h);
+    clear_faults<T>();
     const int count = ro(rec.count + s);
     Vec3<T> r[kMaxSupportPoints];
     for (int a = 0; a < count && a < kMaxSupportPoints; ++a) r[a] = xyz(ro(rec.arms + s * kMaxSupportPoints + a));
     wake[h] = sleeper_load_over_support(r, count, xyz(ro(load + s))) ? 0 : 1;
+    note_faults<T>(faults, s, kFqSleeperLoad);
   }
 };
 

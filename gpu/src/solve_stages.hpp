@@ -45,6 +45,7 @@ struct SolveK {
     const bool coloured = edge_colour != nullptr;
     if (coloured && ro(has_immovable + k) == 0) return;  // nothing to visit; the velocity stays in place
     const int i = ro(d.list + k);
+    clear_faults<T>();
     const F4 pi4 = ro(b.pos + i), h4 = ro(b.half + i);
     const Vec3<T> p = xyz(pi4), a = xyz(ro(b.aabb + i)), h = xyz(h4);
     const Mat3<T> R = rotation_matrix(quat(ro(b.rot + i)));
@@ -124,6 +125,7 @@ struct SolveK {
         const Vec3<T> v0s = self.v, w0s = self.w;
         const unsigned shortened0 = counts.shortened_steps;
         solve();
+        note_faults<T>(sc.faults, i, kFqImpulse);
         record_visit(st, v0s, w0s, env.v, env.w, self, env, sc.P, counts.shortened_steps - shortened0);
       };
       auto ground = [&] { imm_visit(0, solve_ground); };
@@ -161,6 +163,7 @@ struct SolveK {
         auto store = [&](int c, const ContactState<T>& cs) { rec.st[c].a = F4{cs.j_n, cs.j_t.x, cs.j_t.y, cs.j_t.z}; };
         SolveCounts here;
         solve_manifold<kBoxManifoldPoints>(A, B, point, load, store, sc.friction, sc.gravity, split, sc.P, here);
+        note_faults<T>(sc.faults, lower ? i : j, kFqImpulseBody);  // World's body a: the lower index
         record_visit(conv, va0, wa0, vb0, wb0, A, B, sc.P, here.shortened_steps);
         take(pick(lower, A.v, B.v), pick(lower, A.w, B.w), jacobi, lower, here);
       };
@@ -174,6 +177,7 @@ struct SolveK {
         for (int v = sc.n_sdf - 1; v >= 0; --v) volume(v);
         if (sc.ground_on) ground();
       }
+      note_faults<T>(sc.faults, i, kFqImpulse);
       vout[i] = f4(coloured ? self.v : self.v + dv, T{});  // (no + 0: keeps a -0 component)
       wout[i] = f4(coloured ? self.w : self.w + dw, T{});
       add_counter(&ctr[kCSolverContacts], counts.solver_contacts);
@@ -183,6 +187,7 @@ struct SolveK {
     }
     if (sc.ground_on) solve_ground();
     for (int v = 0; v < sc.n_sdf; ++v) solve_volume(v);
+    note_faults<T>(sc.faults, i, kFqImpulse);
     const int beg = d.lists.begin(k), end = d.lists.end(k);
     for (int t = beg; t < end; ++t) {
       const int j = ro(d.lists.nbr + t);
@@ -209,9 +214,11 @@ struct SolveK {
       BodyView<T> A = pick(lower, me, other), B = pick(lower, other, me);
       SolveCounts here;
       solve_contact(A, r1, B, r2, pc.n, pc.penetration, c, sc.friction, sc.gravity, split, sc.P, here);
+      note_faults<T>(sc.faults, lower ? i : j, kFqImpulseBody);  // World's body a: the lower index
       take(pick(lower, A.v, B.v), pick(lower, A.w, B.w), jacobi, lower, here);
       d.pair[t].a = F4{c.j_n, c.j_t.x, c.j_t.y, c.j_t.z};
     }
+    note_faults<T>(sc.faults, i, kFqImpulse);
     vout[i] = f4(self.v + dv, T{});
     wout[i] = f4(self.w + dw, T{});
     add_counter(&ctr[kCSolverContacts], counts.solver_contacts);
@@ -239,6 +246,7 @@ struct SolveEdgeK {
     const SceneConsts<T>& sc = d.sc;
     const int t = ro(edges + e);
     const int i = ro(d.list + t / d.lists.stride), j = ro(d.lists.nbr + t);
+    clear_faults<T>();
     const F4 pi4 = ro(b.pos + i), pj4 = ro(b.pos + j);
     const Vec3<T> p = xyz(pi4), pj = xyz(pj4);
     if (sc.oriented) {  // the pair's manifold (eq 99), i < j
@@ -273,6 +281,7 @@ struct SolveEdgeK {
       record_visit(conv, va0, wa0, vb0, wb0, A, B, sc.P, counts.shortened_steps);
       if (F4* twin_conv = d.conv_of_pair(ro(mate + t)); conv != nullptr && twin_conv != nullptr)
         for (int q = 0; q < 4; ++q) twin_conv[q] = conv[q];
+      note_faults<T>(sc.faults, i, kFqImpulseBody);  // i < j: World's body a
       vel[i] = f4(A.v, T{});
       ang[i] = f4(A.w, T{});
       vel[j] = f4(B.v, T{});
@@ -291,6 +300,7 @@ struct SolveEdgeK {
     SolveCounts counts;
     solve_contact(A, pc.point - p, B, pc.point - pj, pc.n, pc.penetration, cs, sc.friction, sc.gravity, Num<T>::from_int(1), sc.P,
                   counts);
+    note_faults<T>(sc.faults, i, kFqImpulseBody);
     vel[i] = f4(A.v, T{});
     ang[i] = f4(A.w, T{});
     vel[j] = f4(B.v, T{});
