@@ -4,6 +4,7 @@
 // kernels of the pipeline's bookkeeping.
 #pragma once
 #include <cstdint>
+#include <type_traits>
 
 #include "lockstep/fixed/q16_num.hpp"
 #include "lockstep/gpu/soa.hpp"
@@ -122,7 +123,15 @@ LS_HD inline T4<T> ro(const T4<T>* p) {
 template <class T>
 LS_HD inline T ro(const T* p) {
 #if defined(__CUDA_ARCH__)
-  return __ldg(p);
+  if constexpr (std::is_arithmetic_v<T>) {
+    return __ldg(p);
+  } else {  // a Q16.16: its int32 through the same path
+    static_assert(sizeof(T) == sizeof(int), "a 4-byte value");
+    const int v = __ldg(reinterpret_cast<const int*>(p));
+    T r;
+    __builtin_memcpy(&r, &v, sizeof r);
+    return r;
+  }
 #else
   return *p;
 #endif
