@@ -79,6 +79,7 @@ ResumedEngine engine_from_snapshot(const std::vector<std::uint8_t>& bytes) {
     case SnapshotNumber::kDouble: return resumed<double>(bytes);
     case SnapshotNumber::kMp: return resumed<Mp>(bytes);
     case SnapshotNumber::kGpu:
+    case SnapshotNumber::kGpuFixed:
 #if LOCKSTEP_HAVE_GPU_ENGINE
       return resume_gpu_engine(bytes, quiet_engines);
 #else
@@ -103,7 +104,7 @@ std::vector<std::string> engine_names() {
 
 std::vector<std::string> engine_variants() {
 #if LOCKSTEP_HAVE_GPU_ENGINE
-  return {"gpu-jacobi"};
+  return {"gpu-jacobi", "gpu-fixed"};
 #else
   return {};
 #endif
@@ -155,6 +156,7 @@ std::unique_ptr<EngineRun> make_engine(std::string_view name, const Scene& scene
 #if LOCKSTEP_HAVE_GPU_ENGINE
   if (name == "gpu") return make_gpu_engine(scene, false, quiet_engines);
   if (name == "gpu-jacobi") return make_gpu_engine(scene, true, quiet_engines);
+  if (name == "gpu-fixed") return make_gpu_fixed_engine(scene, false, quiet_engines);
 #endif
   std::string allowed;
   for (const std::string& n : accepted_engine_names()) allowed += (allowed.empty() ? "" : ", ") + n;

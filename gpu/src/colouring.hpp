@@ -49,9 +49,10 @@ LS_HD inline void store_word(int* p, int v) {
 
 // Where the colouring's per-entry state lives (each array one element per
 // neighbour-list entry, but the pending list and its count).
+template <class T>
 struct EdgeArrays {
   const int* slot_of = nullptr;  // this frame's slot of each active body
-  const float* inv_cell = nullptr;  // the awake grid's 1 / (2 H), H its largest AABB half extent
+  const T* inv_cell = nullptr;  // the awake grid's 1 / (2 H), H its largest AABB half extent
   int* mate = nullptr;           // null: no colouring (the Jacobi solver)
   unsigned long long* key = nullptr;
   int* word = nullptr;  // colour, kUncoloured, or kNoEdge
@@ -66,14 +67,15 @@ struct EdgeArrays {
 // edge), and the owner's entry (the lower body's) goes to the pending list of
 // round 0.
 // Needs every list sorted (GatherK) and slot_of written.
-LS_HD inline void init_edge(const EdgeArrays& e, const NeighbourLists& lists, int i, int t, int j, bool j_awake,
-                            float yi, float yj) {
+template <class T>
+LS_HD inline void init_edge(const EdgeArrays<T>& e, const NeighbourLists& lists, int i, int t, int j, bool j_awake,
+                            T yi, T yj) {
   // -1 when j's list lacks i (not mutual: no edge; kept safe, the pair test is symmetric)
   const int m = j_awake ? lists.find(ro(e.slot_of + j), i) : -1;
   e.mate[t] = m;
   e.word[t] = m < 0 ? kNoEdge : kUncoloured;
   if (m < 0) return;  // a non-edge's key is never read
-  const float inv_band = ro(e.inv_cell) * Num<float>::from_int(2 * kBandsPerExtent);  // bands of H / kBandsPerExtent (cell 2H)
+  const T inv_band = ro(e.inv_cell) * Num<T>::from_int(2 * kBandsPerExtent);  // bands of H / kBandsPerExtent (cell 2H)
   e.key[t] = i < j ? edge_key(i, j, yi, yj, inv_band) : edge_key(j, i, yj, yi, inv_band);
   if (i < j) e.pending[claim_one(e.pending_count)] = t;
 }

@@ -18,10 +18,12 @@ inline constexpr int kErrPosition = 0, kErrVelocity = 1, kErrAngular = 2, kErrOr
 // (eqs 78-80); keep[k] = 1 for a body still awake. A non-finite awake body
 // records 4 i + code in *error (the lowest wins, as World<T> reports the
 // lowest index).
+template <class T>
 struct CommitSleepK {
+  using F4 = T4<T>;
   const int* list;
-  BodyArrays b;
-  SceneConsts sc;
+  BodyArrays<T> b;
+  SceneConsts<T> sc;
   const F4* p_in;
   const F4* q_in;
   const int* support_idx;
@@ -36,19 +38,21 @@ struct CommitSleepK {
   const int* can_rest = nullptr;  // per body: statics lets it rest (eqs 116, 117)
   LS_HD void operator()(int k) const {
     const int i = list[k];
+    clear_faults<T>();
     const F4 p4 = p_in[k];
-    const Quat<float> q = quat(q_in[k]);
+    const Quat<T> q = quat(q_in[k]);
     b.pos[i] = p4;
     b.rot[i] = q_in[k];
-    const Mat3<float> R = rotation_matrix(q);
-    const Vec3<float> a = rotated_half_extents(R, xyz(b.half[i]));  // eq 31
-    b.aabb[i] = f4(a, Num<float>::max(a.x, Num<float>::max(a.y, a.z)));
-    Vec3<float> v = xyz(b.vel[i]), w = xyz(b.ang[i]);
+    const Mat3<T> R = rotation_matrix(q);
+    const Vec3<T> a = rotated_half_extents(R, xyz(b.half[i]));  // eq 31
+    b.aabb[i] = f4(a, Num<T>::max(a.x, Num<T>::max(a.y, a.z)));
+    note_faults<T>(sc.faults, i, kFqPosition);  // eq 31: World<T>::update_derived in stage 8
+    Vec3<T> v = xyz(b.vel[i]), w = xyz(b.ang[i]);
     bool asleep = false;
     if (sc.sleep) {
       int counter = b.sleep_counter[i];
       const bool supported = support_idx[i] != kNoSupport;
-      const Vec3<float> up = supported ? xyz(support_n[i]) : Vec3<float>{0.0f, Num<float>::from_int(1), 0.0f};
+      const Vec3<T> up = supported ? xyz(support_n[i]) : Vec3<T>{T{}, Num<T>::from_int(1), T{}};
       const bool is_over = over == nullptr || over[i] != 0;  // eq 112: one not over its support may be tipping
       const bool leaning_i = leaning != nullptr && leaning[i] != 0;  // eq 115
       asleep = update_sleep(v, w, counter, supported, is_over, leaning_i, !sc.oriented, can_rest == nullptr || can_rest[i] != 0, R, up,
@@ -56,18 +60,19 @@ struct CommitSleepK {
                             sc.P);
       b.sleep_counter[i] = counter;
       if (ready != nullptr) ready[k] = counter >= sc.P.sleep_frames ? 1 : 0;
-      b.vel[i] = f4(v, 0.0f);
-      b.ang[i] = f4(w, 0.0f);
+      b.vel[i] = f4(v, T{});
+      b.ang[i] = f4(w, T{});
       if (asleep) {
         b.flags[i] = static_cast<std::uint8_t>(b.flags[i] | kFlagAsleep);
         b.sleep_frame[i] = frame;
       }
     }
+    note_faults<T>(sc.faults, i, kFqSleep);
     keep[k] = asleep ? 0 : 1;
     if (!asleep) {
-      auto fin = [](const Vec3<float>& x) { return Num<float>::finite(x.x) && Num<float>::finite(x.y) && Num<float>::finite(x.z); };
+      auto fin = [](const Vec3<T>& x) { return Num<T>::finite(x.x) && Num<T>::finite(x.y) && Num<T>::finite(x.z); };
       const int code = !fin(xyz(p4)) ? kErrPosition : !fin(v) ? kErrVelocity : !fin(w) ? kErrAngular
-                     : !(Num<float>::finite(q.w) && Num<float>::finite(q.x) && Num<float>::finite(q.y) && Num<float>::finite(q.z)) ? kErrOrientation
+                     : !(Num<T>::finite(q.w) && Num<T>::finite(q.x) && Num<T>::finite(q.y) && Num<T>::finite(q.z)) ? kErrOrientation
                      : -1;
       if (code >= 0) store_min(error, 4 * i + code);
     }

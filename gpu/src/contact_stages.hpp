@@ -13,14 +13,15 @@ namespace lockstep::gpu {
 
 // What ContactsK works on for one active body (slot k, body i): its pose and
 // velocities, what it has found so far (counts, directions) and its support.
+template <class T>
 struct BodyContacts {
   int k = 0, i = 0;
-  Vec3<float> p, a, h;
-  Mat3<float> R;
-  Vec3<float> v0, w0;
-  BodyView<float> self0;  // before the warm start
-  BodyView<float> self;   // warm-started velocity
-  float e_self = 0.0f, mu_self = 0.0f;
+  Vec3<T> p, a, h;
+  Mat3<T> R;
+  Vec3<T> v0, w0;
+  BodyView<T> self0;  // before the warm start
+  BodyView<T> self;   // warm-started velocity
+  T e_self = T{}, mu_self = T{};
   bool had = false;  // active last frame
   int prev_slot = 0;
   int q = 0, q_end = 0;  // walks the previous list
@@ -30,12 +31,12 @@ struct BodyContacts {
   // Its support (add_support_contact, eqs 75, 98, 112): the first support
   // contact names the support.
   int support = kNoSupport;
-  Vec3<float> support_sum{};
-  float support_gap_min{};
-  Vec3<float> arms[kMaxSupportPoints];  // eq 112: the lever arms of its support contacts
+  Vec3<T> support_sum{};
+  T support_gap_min{};
+  Vec3<T> arms[kMaxSupportPoints];  // eq 112: the lever arms of its support contacts
   int n_arms = 0;                       // kMaxSupportPoints + 1: too many to look at
   bool loaded = false;                  // eq 112: it touches (within slop) something not a support
-  float support_mu = 0.0f;              // eq 116: the first support contact's friction (eq 58)
+  T support_mu = T{};              // eq 116: the first support contact's friction (eq 58)
   int parent = kLoadNone;               // eq 117: fold_load_parent over the support contacts
 
   // A contact (normal n towards the body) joins its support (eqs 75, 98,
@@ -43,19 +44,19 @@ struct BodyContacts {
   // first); mu2: the other side's friction; movable: the other side is a
   // dynamic body, awake or asleep (eqs 117, 124).
   template <class ClosingSpeed>
-  LS_HD_INLINE void add_support(const SceneConsts& sc, int who, const Vec3<float>& n, float penetration,
-                                const Vec3<float>& point, ClosingSpeed&& v_n, float mu2, bool movable) {
+  LS_HD_INLINE void add_support(const SceneConsts<T>& sc, int who, const Vec3<T>& n, T penetration,
+                                const Vec3<T>& point, ClosingSpeed&& v_n, T mu2, bool movable) {
     if (!add_support_contact(support_sum, arms, n_arms, support_gap_min, support != kNoSupport, n, penetration,
                              point - p, v_n, sc.P))
       return;
     parent = fold_load_parent(parent, movable ? who : kLoadMany);  // eq 117
     if (support == kNoSupport) {
       support = who;
-      support_mu = sc.friction ? combined_friction(mu_self, mu2) : 0.0f;  // eq 58, as prepare_contact
+      support_mu = sc.friction ? combined_friction(mu_self, mu2) : T{};  // eq 58, as prepare_contact
     }
   }
   // A contact with another active body, normal n_i towards this one: counted in its direction.
-  LS_HD_INLINE void count_direction(const Vec3<float>& n_i) {
+  LS_HD_INLINE void count_direction(const Vec3<T>& n_i) {
     const int shift = 8 * direction_of(n_i);
     if (((directions >> shift) & 255u) < 255u) directions += Counter{1} << shift;
   }
@@ -82,10 +83,12 @@ struct BodyContacts {
 // frame (found by walking its previous list, ascending like the current
 // one, alongside), else the other body's copy. A ground corner that was no
 // contact last frame has no cached impulse (its slot is not written).
+template <class T>
 struct ContactsK {
-  SolverData d;
-  PreviousContacts prev;
-  EdgeArrays edges;  // the coloured solver's per-entry state (edges.mate null: Jacobi)
+  using F4 = T4<T>;
+  SolverData<T> d;
+  PreviousContacts<T> prev;
+  EdgeArrays<T> edges;  // the coloured solver's per-entry state (edges.mate null: Jacobi)
   F4* sdf_c0;  // per slot, volume and sample: n, penetration
   F4* sdf_c1;  // contact point, hit (1/0)
   int* support_idx;
@@ -96,10 +99,10 @@ struct ContactsK {
   F4* vout;
   F4* wout;
   Counter* ctr;
-  const float* grow = nullptr;  // oriented-box model: per body, its AABB growth (eqs 97, 107)
+  const T* grow = nullptr;  // oriented-box model: per body, its AABB growth (eqs 97, 107)
   int* over_support = nullptr;  // per body: 1 when its centre of mass is over its support contacts (eq 112)
   int* leaning = nullptr;       // per body: 1 when it leans on what holds it beyond its support (eq 115)
-  float* settle_limit = nullptr;  // per body: eq 77 damps a relative speed up to this (eq 116)
+  T* settle_limit = nullptr;  // per body: eq 77 damps a relative speed up to this (eq 116)
   int* can_rest = nullptr;      // per body: statics lets it rest (eq 116 here; eq 117 in LoadOverK)
   // The oriented-box model, eq 117's inputs: per body its load parent; per
   // slot its support points' lever arms (kMaxSupportPoints each), how many
@@ -110,29 +113,32 @@ struct ContactsK {
   int* held_out = nullptr;
 
   // A contact with an immovable thing (slot e of the body's): its preparation and warm start.
-  LS_HD_INLINE void immovable(BodyContacts& c, int e, const Vec3<float>& r1, const Vec3<float>& n, float e2, float mu2,
+  LS_HD_INLINE void immovable(BodyContacts<T>& c, int e, const Vec3<T>& r1, const Vec3<T>& n, T e2, T mu2,
                               bool cached_ok) const {
-    const SceneConsts& sc = d.sc;
+    const SceneConsts<T>& sc = d.sc;
     const int stride = sc.imm_stride();
-    const Vec3<float> zero{};
-    BodyView<float> B = immovable_view<float>();
-    ContactState<float> cs = prepare_contact(c.self0, r1, B, zero, n, c.e_self, c.mu_self, e2, mu2, sc.restitution,
+    const Vec3<T> zero{};
+    BodyView<T> B = immovable_view<T>();
+    note_faults<T>(sc.faults, c.i, e < sc.ground_slots() ? kFqGround : kFqSdf);
+    ContactState<T> cs = prepare_contact(c.self0, r1, B, zero, n, c.e_self, c.mu_self, e2, mu2, sc.restitution,
                                              sc.friction, sc.P, c.counts);
+    note_faults<T>(sc.faults, c.i, kFqPreparation);
     const F4 cached = cached_ok ? ro(&prev.imm[c.prev_slot * stride + e].a) : F4{};
-    if (cached.x > 0.0f) warm_start_contact(c.self, r1, B, zero, n, cs, cached.x, sc.P);
+    if (cached.x > T{}) warm_start_contact(c.self, r1, B, zero, n, cs, cached.x, sc.P);
+    note_faults<T>(sc.faults, c.i, kFqWarmStart);
     store_state(cs, d.imm[c.k * stride + e].a, d.imm[c.k * stride + e].b);
   }
 
   // The ground corners (eqs 84, 97, 107), in corner order.
-  LS_HD_INLINE void ground(BodyContacts& c) const {
-    const SceneConsts& sc = d.sc;
-    const Vec3<float> up{0.0f, Num<float>::from_int(1), 0.0f};
-    const float itol = sc.immovable_tol(c.i);  // eqs 97, 107
+  LS_HD_INLINE void ground(BodyContacts<T>& c) const {
+    const SceneConsts<T>& sc = d.sc;
+    const Vec3<T> up{T{}, Num<T>::from_int(1), T{}};
+    const T itol = sc.immovable_tol(c.i);  // eqs 97, 107
     const int prev_mask = c.had ? ro(prev.ground_mask + c.prev_slot) : 0;
     int mask = 0;
     for (int q = 0; q < 8; ++q) {
-      Vec3<float> corner;
-      const float depth = ground_corner_depth(c.p, c.R, c.h, q, sc.ground_y, corner);
+      Vec3<T> corner;
+      const T depth = ground_corner_depth(c.p, c.R, c.h, q, sc.ground_y, corner);
       if (!(depth > -itol)) continue;
       ++c.ground_contacts;
       if (holds_body(up, depth, true, sc.P)) c.loaded = true;  // eq 112
@@ -142,23 +148,24 @@ struct ContactsK {
       immovable(c, q, corner - c.p, up, sc.ground_e, sc.ground_mu, ((prev_mask >> q) & 1) != 0);
     }
     ground_mask[c.k] = mask;
+    note_faults<T>(sc.faults, c.i, kFqGround);
   }
 
   // Each SDF volume's 9 samples (eqs 33-37, 93, 97).
-  LS_HD_INLINE void volumes(BodyContacts& c) const {
-    const SceneConsts& sc = d.sc;
+  LS_HD_INLINE void volumes(BodyContacts<T>& c) const {
+    const SceneConsts<T>& sc = d.sc;
     const int stride = sc.imm_stride();
     for (int v = 0; v < sc.n_sdf; ++v) {
       const F4 mat = sc.sdf_material[v];
       for (int s = 0; s < 9; ++s) {
-        const SdfContact<float> sd = sdf_sample_contact(c.p, c.R, c.h, sc.sdf[v], s, sc.P.contact_tolerance);  // eq 97 (no reach)
+        const SdfContact<T> sd = sdf_sample_contact(c.p, c.R, c.h, sc.sdf[v], s, sc.P.contact_tolerance);  // eq 97 (no reach)
         const int g = (c.k * sc.n_sdf + v) * 9 + s;
-        const F4 c0 = f4(sd.n, sd.penetration), c1 = f4(sd.point, sd.hit ? 1.0f : 0.0f);
+        const F4 c0 = f4(sd.n, sd.penetration), c1 = f4(sd.point, sd.hit ? Num<T>::from_int(1) : T{});
         sdf_c0[g] = c0;
         sdf_c1[g] = c1;
         const int e = sc.ground_slots() + 9 * v + s;
         if (!sd.hit) {
-          d.imm[c.k * stride + e] = ContactRecord{};
+          d.imm[c.k * stride + e] = ContactRecord<T>{};
           continue;
         }
         ++c.sdf_contacts;
@@ -168,11 +175,12 @@ struct ContactsK {
         immovable(c, e, xyz(c1) - c.p, xyz(c0), mat.x, mat.y, c.had);
       }
     }
+    note_faults<T>(sc.faults, c.i, kFqSdf);
   }
 
   // Last frame's entry of the pair with j: the body's own (walking its
   // previous list alongside) when it was active, else the other body's; -1: none.
-  LS_HD_INLINE int previous_entry(BodyContacts& c, int j) const {
+  LS_HD_INLINE int previous_entry(BodyContacts<T>& c, int j) const {
     if (!c.had) return prev.entry_of(j, c.i);
     int mq = c.q < c.q_end ? ro(prev.lists.nbr + c.q) : 0;
     while (c.q < c.q_end && mq < j) {
@@ -185,54 +193,58 @@ struct ContactsK {
   // One point of a body pair (body 1 the lower index: one call for either
   // order, the threads of a warp stay together): its preparation and, with a
   // cached impulse, its warm start of the body's own velocity.
-  LS_HD_INLINE ContactState<float> pair_point(BodyContacts& c, bool lower, const BodyView<float>& other0, float e_o,
-                                              float mu_o, const Vec3<float>& r1, const Vec3<float>& r2,
-                                              const Vec3<float>& n, float cached, SolveCounts& here) const {
-    const SceneConsts& sc = d.sc;
-    ContactState<float> cs = prepare_contact(pick(lower, c.self0, other0), r1, pick(lower, other0, c.self0), r2, n,
+  LS_HD_INLINE ContactState<T> pair_point(BodyContacts<T>& c, bool lower, const BodyView<T>& other0, T e_o,
+                                              T mu_o, const Vec3<T>& r1, const Vec3<T>& r2,
+                                              const Vec3<T>& n, T cached, SolveCounts& here, int lo) const {
+    const SceneConsts<T>& sc = d.sc;
+    note_faults<T>(sc.faults, lo, kFqPairContact);
+    ContactState<T> cs = prepare_contact(pick(lower, c.self0, other0), r1, pick(lower, other0, c.self0), r2, n,
                                              lower ? c.e_self : e_o, lower ? c.mu_self : mu_o, lower ? e_o : c.e_self,
                                              lower ? mu_o : c.mu_self, sc.restitution, sc.friction, sc.P, here);
-    if (cached > 0.0f) {
-      BodyView<float> A = pick(lower, c.self, other0), B = pick(lower, other0, c.self);
+    note_faults<T>(sc.faults, lo, kFqPreparation);
+    if (cached > T{}) {
+      BodyView<T> A = pick(lower, c.self, other0), B = pick(lower, other0, c.self);
       warm_start_contact(A, r1, B, r2, n, cs, cached, sc.P);
       c.self.v = pick(lower, A.v, B.v);
       c.self.w = pick(lower, A.w, B.w);
     }
+    note_faults<T>(sc.faults, lo, kFqWarmStart);
     return cs;
   }
 
   // The oriented-box model: entry t's pair manifold (eqs 100-107), as World<T>'s
   // narrowphase (body a the lower index); every point is a contact (support,
   // preparation, warm start by feature, in point order).
-  LS_HD_INLINE void oriented_pair(BodyContacts& c, int t) const {
-    const BodyArrays& b = d.b;
-    const SceneConsts& sc = d.sc;
+  LS_HD_INLINE void oriented_pair(BodyContacts<T>& c, int t) const {
+    const BodyArrays<T>& b = d.b;
+    const SceneConsts<T>& sc = d.sc;
     const int i = c.i, j = d.lists.nbr[t];
-    const Vec3<float> pj = xyz(ro(b.pos + j));
+    const Vec3<T> pj = xyz(ro(b.pos + j));
     const bool lower = i < j;
-    const Mat3<float> Rj = rotation_matrix(quat(ro(b.rot + j)));
-    const Vec3<float> hj = xyz(ro(b.half + j));
-    const float gi = ro(grow + i), gj = ro(grow + j);
-    const BoxManifold<float> mf = lower ? pair_manifold(sc, c.p, c.R, c.h, gi, pj, Rj, hj, gj)
+    const Mat3<T> Rj = rotation_matrix(quat(ro(b.rot + j)));
+    const Vec3<T> hj = xyz(ro(b.half + j));
+    const T gi = ro(grow + i), gj = ro(grow + j);
+    const BoxManifold<T> mf = lower ? pair_manifold(sc, c.p, c.R, c.h, gi, pj, Rj, hj, gj)
                                         : pair_manifold(sc, pj, Rj, hj, gj, c.p, c.R, c.h, gi);
     const bool j_awake = is_awake(ro(b.flags + j));
-    const Vec3<float> n_i = lower ? mf.n : -mf.n;  // towards body i
-    PairManifold& rec = d.man[t];
+    const Vec3<T> n_i = lower ? mf.n : -mf.n;  // towards body i
+    PairManifold<T>& rec = d.man[t];
     rec.count = mf.count;
-    rec.n = f4(mf.n, 0.0f);
+    rec.n = f4(mf.n, T{});
     for (int u = 0; u < kBoxManifoldPoints; ++u) {
       rec.pt[u] = u < mf.count ? f4(mf.point[u], mf.penetration[u]) : F4{};
       rec.feature[u] = u < mf.count ? mf.feature[u] : 0;
     }
     rec.deepest = deepest_point(mf.penetration, mf.count);
     rec.depth = mean_depth(mf.penetration, mf.count);  // eq 110
+    note_faults<T>(sc.faults, lower ? i : j, kFqPairContact);
     if (edges.mate != nullptr) init_edge(edges, d.lists, i, t, j, j_awake && mf.count > 0, c.p.y, pj.y);
     if (mf.count == 0) return;
     if (!j_awake) ++c.immovable_bodies;
     if (lower || !j_awake) c.pair_points += static_cast<unsigned>(mf.count);
     if (j_awake) c.count_direction(n_i);
-    const BodyView<float> other0 = view_of(b, j, b.vel, b.ang);
-    const float e_o = restitution_of(ro(b.half + j)), mu_o = friction_of(ro(b.inert + j));
+    const BodyView<T> other0 = view_of(b, j, b.vel, b.ang);
+    const T e_o = restitution_of(ro(b.half + j)), mu_o = friction_of(ro(b.inert + j));
     const int prev_t = previous_entry(c, j);
     const int prev_count = prev_t >= 0 ? ro(&prev.man[prev_t].count) : 0;
     SolveCounts here;
@@ -243,54 +255,55 @@ struct ContactsK {
                       return lower ? contact_closing_speed(c.v0, c.w0, c.p, other0.v, other0.w, pj, mf.point[u], mf.n)
                                    : contact_closing_speed(other0.v, other0.w, pj, c.v0, c.w0, c.p, mf.point[u], mf.n);
                     },
-                    mu_o, inv_mass_of(ro(b.pos + j)) != 0.0f);
-      const Vec3<float> r1 = mf.point[u] - (lower ? c.p : pj), r2 = mf.point[u] - (lower ? pj : c.p);
-      float cached = 0.0f;  // eq 96: the same feature's impulse last frame
+                    mu_o, inv_mass_of(ro(b.pos + j)) != T{});
+      const Vec3<T> r1 = mf.point[u] - (lower ? c.p : pj), r2 = mf.point[u] - (lower ? pj : c.p);
+      T cached = T{};  // eq 96: the same feature's impulse last frame
       for (int w = 0; w < prev_count; ++w)
         if (ro(&prev.man[prev_t].feature[w]) == mf.feature[u]) { cached = ro(&prev.man[prev_t].st[w].a).x; break; }
-      const ContactState<float> cs = pair_point(c, lower, other0, e_o, mu_o, r1, r2, mf.n, cached, here);
+      const ContactState<T> cs = pair_point(c, lower, other0, e_o, mu_o, r1, r2, mf.n, cached, here, lower ? i : j);
       store_state(cs, rec.st[u].a, rec.st[u].b);
     }
-    if (lower || other0.inv_mass == 0.0f) c.counts.restitution_bounces += here.restitution_bounces;
+    if (lower || other0.inv_mass == T{}) c.counts.restitution_bounces += here.restitution_bounces;
   }
 
   // The source's AABB model: entry t's one contact (eqs 38-43, 85).
-  LS_HD_INLINE void aabb_pair(BodyContacts& c, int t) const {
-    const BodyArrays& b = d.b;
-    const SceneConsts& sc = d.sc;
+  LS_HD_INLINE void aabb_pair(BodyContacts<T>& c, int t) const {
+    const BodyArrays<T>& b = d.b;
+    const SceneConsts<T>& sc = d.sc;
     const int i = c.i, j = d.lists.nbr[t];
-    const Vec3<float> pj = xyz(ro(b.pos + j));
+    const Vec3<T> pj = xyz(ro(b.pos + j));
     const bool lower = i < j;
-    const PairContact<float> pc = canonical_pair(sc, i, c.p, c.a, j, pj, xyz(ro(b.aabb + j)));
-    const Vec3<float> n_i = lower ? pc.n : -pc.n;  // towards body i
+    const PairContact<T> pc = canonical_pair(sc, i, c.p, c.a, j, pj, xyz(ro(b.aabb + j)));
+    note_faults<T>(sc.faults, lower ? i : j, kFqPairContact);
+    const Vec3<T> n_i = lower ? pc.n : -pc.n;  // towards body i
     const bool j_awake = is_awake(ro(b.flags + j));
     if (!j_awake) ++c.immovable_bodies;
     if (edges.mate != nullptr) init_edge(edges, d.lists, i, t, j, j_awake, c.p.y, pj.y);
     if (j_awake) c.count_direction(n_i);
     if (holds_body(n_i, pc.penetration, !j_awake, sc.P)) c.loaded = true;  // eq 112
-    const BodyView<float> other0 = view_of(b, j, b.vel, b.ang);
+    const BodyView<T> other0 = view_of(b, j, b.vel, b.ang);
     c.add_support(sc, j, n_i, pc.penetration, pc.point,
                   [&] {
                     return lower ? contact_closing_speed(c.v0, c.w0, c.p, other0.v, other0.w, pj, pc.point, pc.n)
                                  : contact_closing_speed(other0.v, other0.w, pj, c.v0, c.w0, c.p, pc.point, pc.n);
                   },
-                  friction_of(ro(b.inert + j)), inv_mass_of(ro(b.pos + j)) != 0.0f);
-    const Vec3<float> r1 = pc.point - (lower ? c.p : pj), r2 = pc.point - (lower ? pj : c.p);
-    const float e_o = restitution_of(ro(b.half + j)), mu_o = friction_of(ro(b.inert + j));
+                  friction_of(ro(b.inert + j)), inv_mass_of(ro(b.pos + j)) != T{});
+    const Vec3<T> r1 = pc.point - (lower ? c.p : pj), r2 = pc.point - (lower ? pj : c.p);
+    const T e_o = restitution_of(ro(b.half + j)), mu_o = friction_of(ro(b.inert + j));
     const int prev_t = previous_entry(c, j);
     const F4 cached = prev_t >= 0 ? ro(&prev.pair[prev_t].a) : F4{};
     SolveCounts here;
-    const ContactState<float> cs = pair_point(c, lower, other0, e_o, mu_o, r1, r2, pc.n, cached.x, here);
-    if (lower || other0.inv_mass == 0.0f) c.counts.restitution_bounces += here.restitution_bounces;
+    const ContactState<T> cs = pair_point(c, lower, other0, e_o, mu_o, r1, r2, pc.n, cached.x, here, lower ? i : j);
+    if (lower || other0.inv_mass == T{}) c.counts.restitution_bounces += here.restitution_bounces;
     store_state(cs, d.pair[t].a, d.pair[t].b);
   }
 
   // The body's support and what statics decides from it (eqs 112, 115-117).
-  LS_HD_INLINE void write_support(const BodyContacts& c) const {
-    const SceneConsts& sc = d.sc;
+  LS_HD_INLINE void write_support(const BodyContacts<T>& c) const {
+    const SceneConsts<T>& sc = d.sc;
     const int i = c.i, k = c.k;
     support_idx[i] = c.support;
-    const Vec3<float> n_s = c.support != kNoSupport ? normalize(c.support_sum) : Vec3<float>{};
+    const Vec3<T> n_s = c.support != kNoSupport ? normalize(c.support_sum) : Vec3<T>{};
     support_n[i] = f4(n_s, c.support_gap_min);  // w: the support gap
     if (over_support != nullptr) {
       const Stance st = stance_of(c.arms, c.n_arms, c.support != kNoSupport, c.loaded, c.w0, sc.P);
@@ -298,8 +311,8 @@ struct ContactsK {
       leaning[i] = st.leans ? 1 : 0;      // eq 115
     }
     if (settle_limit != nullptr) {  // eq 116
-      const Vec3<float> g = sc.gravity ? sc.P.gravity : Vec3<float>{};
-      Footing<float> f;
+      const Vec3<T> g = sc.gravity ? sc.P.gravity : Vec3<T>{};
+      Footing<T> f;
       if (c.support != kNoSupport) f = footing_of(c.loaded, sc.oriented, g, n_s, c.support_mu, sc.P);
       settle_limit[i] = f.limit;
       can_rest[i] = f.can_rest ? 1 : 0;
@@ -308,19 +321,20 @@ struct ContactsK {
       const int s = c.parent;
       load_parent[i] = s >= 0 && settles_before(ro(d.b.pos + s).y, s, c.p.y, i) ? s : kLoadNone;
       for (int u = 0; u < c.n_arms && u < kMaxSupportPoints; ++u)
-        arms_out[k * kMaxSupportPoints + u] = f4(c.arms[u], 0.0f);
+        arms_out[k * kMaxSupportPoints + u] = f4(c.arms[u], T{});
       n_arms_out[k] = c.n_arms;
       held_out[k] = c.loaded ? 1 : 0;
     }
   }
 
   LS_HD void operator()(int k) const {
-    const BodyArrays& b = d.b;
-    const SceneConsts& sc = d.sc;
-    BodyContacts c;
+    const BodyArrays<T>& b = d.b;
+    const SceneConsts<T>& sc = d.sc;
+    BodyContacts<T> c;
     c.k = k;
     c.i = ro(d.list + k);
     const int i = c.i;
+    clear_faults<T>();
     const F4 pi4 = ro(b.pos + i), h4 = ro(b.half + i), in4 = ro(b.inert + i);
     c.p = xyz(pi4);
     c.a = xyz(ro(b.aabb + i));
@@ -346,9 +360,11 @@ struct ContactsK {
     dir_count[i] = c.directions;
     has_immovable[k] = c.ground_contacts + c.sdf_contacts + c.immovable_bodies > 0 ? 1 : 0;
     if (c.pair_points > 0) add_counter(&ctr[kCBodyContacts], c.pair_points);
+    note_faults<T>(sc.faults, i, kFqLoad);  // eqs 75, 98, 112: the support
     write_support(c);
-    vout[i] = f4(c.self.v, 0.0f);
-    wout[i] = f4(c.self.w, 0.0f);
+    note_faults<T>(sc.faults, i, kFqLoad);  // eqs 112, 115-117
+    vout[i] = f4(c.self.v, T{});
+    wout[i] = f4(c.self.w, T{});
     add_counter(&ctr[kCGroundContacts], c.ground_contacts);
     add_counter(&ctr[kCSdfContacts], c.sdf_contacts);
     add_counter(&ctr[kCRestitutionBounces], c.counts.restitution_bounces);
@@ -363,9 +379,10 @@ struct ContactsK {
 // reads over0). World<T> decides it in one pass in stage 6's order; each
 // body here reads only bodies before it in that order, so the sweeps reach
 // World<T>'s result.
+template <class T>
 struct TipChainK {
   const int* list;
-  BodyArrays b;
+  BodyArrays<T> b;
   const int* support_idx;
   const int* over0;
   const int* in;

@@ -17,35 +17,38 @@ namespace lockstep::gpu {
 // start-of-frame positions), then integration (eqs 2, 7-10). Poses go to
 // per-slot buffers, committed by the next kernel, since other threads read
 // the start-of-frame positions.
+template <class T>
 struct CorrectIntegrateK {
+  using F4 = T4<T>;
   const int* list;
-  BodyArrays b;
-  SceneConsts sc;
+  BodyArrays<T> b;
+  SceneConsts<T> sc;
   NeighbourLists lists;
   const F4* sdf_c0;
   const F4* sdf_c1;
-  const ContactRecord* imm;   // the contacts' solver state: b.y is e_eff (eq 76); a bouncing contact is not corrected
-  const ContactRecord* pair;
+  const ContactRecord<T>* imm;   // the contacts' solver state: b.y is e_eff (eq 76); a bouncing contact is not corrected
+  const ContactRecord<T>* pair;
   const F4* vpost;  // the solver's velocities
   const F4* wpost;
   bool settle;       // settling on: the last sweep
-  SettleSweep sweep;
+  SettleSweep<T> sweep;
   F4* p_out;
   F4* q_out;
   Counter* ctr;
   F4* p_world = nullptr;  // oriented-box model: the position after the world's corrections, per slot (eq 110 goes on)
   LS_HD void operator()(int k) const {
     const int i = ro(list + k);
+    clear_faults<T>();
     const F4 pi4 = ro(b.pos + i);
-    const Vec3<float> p0 = xyz(pi4), a = xyz(ro(b.aabb + i));
-    const float inv_self = inv_mass_of(pi4);
-    Vec3<float> p = p0, dummy{};
-    const Quat<float> q0 = quat(ro(b.rot + i));
-    Vec3<float> vf = xyz(ro(vpost + i)), wf = xyz(ro(wpost + i));
+    const Vec3<T> p0 = xyz(pi4), a = xyz(ro(b.aabb + i));
+    const T inv_self = inv_mass_of(pi4);
+    Vec3<T> p = p0, dummy{};
+    const Quat<T> q0 = quat(ro(b.rot + i));
+    Vec3<T> vf = xyz(ro(vpost + i)), wf = xyz(ro(wpost + i));
     if (settle) {
       bool final = true;
-      const float speed = sweep.linear(b, i, sc.P, vf, final);  // eqs 75, 77
-      if (speed >= 0.0f) {
+      const T speed = sweep.linear(b, i, sc.P, vf, final);  // eqs 75, 77
+      if (speed >= T{}) {
         // eqs 64-74: the AABB model damps by the regimes on every support; the
         // oriented-box model on an immovable one only (a support body that is
         // not awake, the ground, an SDF volume).
@@ -56,10 +59,11 @@ struct CorrectIntegrateK {
         add_counter(&ctr[kCSettlingBodies], 1u);
       }
     }
-    b.vel[i] = f4(vf, 0.0f);
-    b.ang[i] = f4(wf, 0.0f);
+    note_faults<T>(sc.faults, i, kFqSettling);
+    b.vel[i] = f4(vf, T{});
+    b.ang[i] = f4(wf, T{});
     unsigned corrections = 0;
-    const float slop = sc.P.slop, percent = sc.P.baumgarte, tol = sc.immovable_tol(i);  // eqs 97, 107
+    const T slop = sc.P.slop, percent = sc.P.baumgarte, tol = sc.immovable_tol(i);  // eqs 97, 107
     // eq 89's order: the body pairs first, then the ground and SDF contacts
     // with their penetration less what the pairs moved this body along n.
     const int beg = lists.begin(k), end = sc.oriented ? beg : lists.end(k);  // oriented: eq 110 (PairCorrectK)
@@ -67,29 +71,29 @@ struct CorrectIntegrateK {
       const int j = ro(lists.nbr + t);
       const F4 pj4 = ro(b.pos + j);
       const bool j_awake = is_awake(ro(b.flags + j));
-      const float inv_j = j_awake ? inv_mass_of(pj4) : 0.0f;
+      const T inv_j = j_awake ? inv_mass_of(pj4) : T{};
       const bool lower = i < j;
-      const PairContact<float> c = canonical_pair(sc, i, p0, a, j, xyz(pj4), xyz(ro(b.aabb + j)));
-      const float inv_a = lower ? inv_self : inv_j, inv_b = lower ? inv_j : inv_self;
-      if (bounces(ro(&pair[t].b)) || (inv_a == 0.0f && inv_b == 0.0f)) continue;
+      const PairContact<T> c = canonical_pair(sc, i, p0, a, j, xyz(pj4), xyz(ro(b.aabb + j)));
+      const T inv_a = lower ? inv_self : inv_j, inv_b = lower ? inv_j : inv_self;
+      if (bounces(ro(&pair[t].b)) || (inv_a == T{} && inv_b == T{})) continue;
       if (lower) baumgarte_correction(p, dummy, c.n, c.penetration, inv_a, inv_b, slop, percent);
       else baumgarte_correction(dummy, p, c.n, c.penetration, inv_a, inv_b, slop, percent);
       if (lower || !j_awake) ++corrections;
     }
     if (sc.ground_on) {  // the deepest corner (first on ties, a resting one before a bouncing one) carries the correction
-      const Mat3<float> R = rotation_matrix(q0);
-      const Vec3<float> h = xyz(ro(b.half + i));
-      auto corner_depth = [&](int c, float& depth) {
-        Vec3<float> corner;
+      const Mat3<T> R = rotation_matrix(q0);
+      const Vec3<T> h = xyz(ro(b.half + i));
+      auto corner_depth = [&](int c, T& depth) {
+        Vec3<T> corner;
         depth = ground_corner_depth(p0, R, h, c, sc.ground_y, corner);
         return depth > -tol;
       };
       auto corner_bounces = [&](int c) { return bounces(ro(&imm[k * sc.imm_stride() + c].b)); };
-      float deepest_depth = 0.0f;
+      T deepest_depth = T{};
       const int deepest = ground_correction_point(8, corner_depth, corner_bounces, deepest_depth);  // eq 89's tie rule
-      if (deepest >= 0 && !corner_bounces(deepest) && inv_self != 0.0f) {
-        const Vec3<float> up{0.0f, Num<float>::from_int(1), 0.0f};
-        baumgarte_correction(p, dummy, up, deepest_depth - dot(p - p0, up), inv_self, 0.0f, slop, percent);
+      if (deepest >= 0 && !corner_bounces(deepest) && inv_self != T{}) {
+        const Vec3<T> up{T{}, Num<T>::from_int(1), T{}};
+        baumgarte_correction(p, dummy, up, deepest_depth - dot(p - p0, up), inv_self, T{}, slop, percent);
         ++corrections;
       }
     }
@@ -97,23 +101,25 @@ struct CorrectIntegrateK {
       int deepest = -1, deepest_s = 0;
       for (int s = 0; s < 9; ++s) {
         const int g = (k * sc.n_sdf + v) * 9 + s;
-        if (sdf_c1[g].w == 0.0f) continue;
+        if (sdf_c1[g].w == T{}) continue;
         if (deepest < 0 || sdf_c0[g].w > sdf_c0[deepest].w) { deepest = g; deepest_s = s; }
       }
       if (deepest < 0 || bounces(imm[k * sc.imm_stride() + sc.ground_slots() + 9 * v + deepest_s].b) ||
-          inv_self == 0.0f)
+          inv_self == T{})
         continue;
       const F4 c0 = sdf_c0[deepest];
-      baumgarte_correction(p, dummy, xyz(c0), c0.w - dot(p - p0, xyz(c0)), inv_self, 0.0f, slop, percent);
+      baumgarte_correction(p, dummy, xyz(c0), c0.w - dot(p - p0, xyz(c0)), inv_self, T{}, slop, percent);
       ++corrections;
     }
+    note_faults<T>(sc.faults, i, kFqCorrection);
     if (p_world != nullptr) {  // the pairs' corrections (eq 110) and the integration follow
       p_world[k] = f4(p, inv_self);
       add_counter(&ctr[kCCorrections], corrections);
       return;
     }
-    Quat<float> q = q0;
+    Quat<T> q = q0;
     integrate_pose(p, q, vf, wf, sc.P);  // eqs 2, 7-10
+    note_faults<T>(sc.faults, i, kFqPosition);
     p_out[k] = f4(p, inv_self);
     q_out[k] = f4(q);
     add_counter(&ctr[kCCorrections], corrections);

@@ -51,10 +51,12 @@ __global__ void __launch_bounds__(kBlock, MinBlocks) for_n_kernel_bounded(int n,
 }
 
 template <class F>
-constexpr int kMinBlocks = std::is_same_v<F, GatherK>                                    ? LOCKSTEP_GPU_GATHER_BLOCKS
-                           : std::is_same_v<F, ContactsK> || std::is_same_v<F, SolveK> || std::is_same_v<F, SolveEdgeK>
+constexpr int kMinBlocks = std::is_same_v<F, GatherK<float>> || std::is_same_v<F, GatherK<Q16>> ? LOCKSTEP_GPU_GATHER_BLOCKS
+                           : std::is_same_v<F, ContactsK<float>> || std::is_same_v<F, SolveK<float>> ||
+                                     std::is_same_v<F, SolveEdgeK<float>> || std::is_same_v<F, ContactsK<Q16>> ||
+                                     std::is_same_v<F, SolveK<Q16>> || std::is_same_v<F, SolveEdgeK<Q16>>
                                ? LOCKSTEP_GPU_MIN_BLOCKS
-                                                                                      : 0;
+                               : 0;
 
 class DeviceBackend {
  public:
@@ -129,10 +131,11 @@ class DeviceBackend {
     check(cub::DeviceScan::ExclusiveSum(temp(bytes), bytes, in, out, n + 1, stream_), "ExclusiveSum");
   }
   // min/max reductions are exact: the result does not depend on CUB's order.
-  void reduce_bounds(const Bounds* in, int n, Bounds* out) {
+  template <class T>
+  void reduce_bounds(const Bounds<T>* in, int n, Bounds<T>* out) {
     std::size_t bytes = 0;
-    check(cub::DeviceReduce::Reduce(nullptr, bytes, in, out, n, BoundsOp{}, Bounds{}, stream_), "Reduce size");
-    check(cub::DeviceReduce::Reduce(temp(bytes), bytes, in, out, n, BoundsOp{}, Bounds{}, stream_), "Reduce");
+    check(cub::DeviceReduce::Reduce(nullptr, bytes, in, out, n, BoundsOp<T>{}, Bounds<T>{}, stream_), "Reduce size");
+    check(cub::DeviceReduce::Reduce(temp(bytes), bytes, in, out, n, BoundsOp<T>{}, Bounds<T>{}, stream_), "Reduce");
   }
   void fill_int(int* p, int v, std::size_t n) {  // v is 0 or -1 (a byte pattern)
     check(cudaMemsetAsync(p, v == 0 ? 0 : 0xff, n * sizeof(int), stream_), "memset");
@@ -257,11 +260,15 @@ double measure_copy_bandwidth(std::size_t bytes, int repetitions) {
   return 2.0 * static_cast<double>(bytes) / (median * 1e-3) / 1e9;
 }
 
-std::unique_ptr<PipelineBase> make_device_pipeline(const InitialState& s, const GpuOptions& options) {
+template <class T>
+std::unique_ptr<PipelineBase<T>> make_device_pipeline(const InitialState<T>& s, const GpuOptions& options) {
   cudaDeviceProp prop{};
   check(cudaGetDeviceProperties(&prop, 0), "cudaGetDeviceProperties");
-  return std::make_unique<Pipeline<DeviceBackend>>(s, options, std::string("gpu: CUDA on ") + prop.name, true);
+  const char* name = Num<T>::kExact ? "gpu-fixed: CUDA on " : "gpu: CUDA on ";
+  return std::make_unique<Pipeline<DeviceBackend, T>>(s, options, std::string(name) + prop.name, true);
 }
+template std::unique_ptr<PipelineBase<float>> make_device_pipeline<float>(const InitialState<float>&, const GpuOptions&);
+template std::unique_ptr<PipelineBase<Q16>> make_device_pipeline<Q16>(const InitialState<Q16>&, const GpuOptions&);
 
 std::vector<float> evaluate_formula_cases_on_device(int kind, const std::vector<float>& inputs) {
   const int n = static_cast<int>(inputs.size() / kFormulaInputs);

@@ -54,12 +54,13 @@ struct ContactIndex {
 // the frozen grid and the large statics; woken bodies (`woken_pass`) only in
 // the awake grid: World<T> pairs only bodies of which one was awake at the
 // broadphase. `count_work` is off when gathering again.
+template <class T>
 struct GatherK {
   const int* list;
   int slot0;  // slot of list[0]
-  BodyArrays b;
-  SceneConsts sc;
-  GridView awake_grid, frozen_grid;
+  BodyArrays<T> b;
+  SceneConsts<T> sc;
+  GridView<T> awake_grid, frozen_grid;
   bool woken_pass, count_work;
   NeighbourLists lists;
   int* max_count;
@@ -70,55 +71,63 @@ struct GatherK {
   ContactIndex index;
   int frame;
   Counter* ctr;
-  const float* grow = nullptr;  // oriented-box model: per body, its AABB growth (eqs 97, 107); null: AABB model
+  const T* grow = nullptr;  // oriented-box model: per body, its AABB growth (eqs 97, 107); null: AABB model
   LS_HD void operator()(int k) const {
     const int i = ro(list + k);
     const int slot = slot0 + k;
+    clear_faults<T>();
     index.slot_of[i] = slot;
     index.stamp[i] = frame;
-    const Vec3<float> p = xyz(ro(b.pos + i)), a = xyz(ro(b.aabb + i));
+    const Vec3<T> p = xyz(ro(b.pos + i)), a = xyz(ro(b.aabb + i));
     int* out = lists.nbr + slot * lists.stride;
     unsigned tested = 0, contacts = 0;
     int m = 0;
     const bool oriented = grow != nullptr;
-    const float gi = oriented ? ro(grow + i) : 0.0f;
-    const Vec3<float> reach = oriented ? a + Vec3<float>{gi, gi, gi} : a;  // the candidates of the grown box
+    const T gi = oriented ? ro(grow + i) : T{};
+    const Vec3<T> reach = oriented ? a + Vec3<T>{gi, gi, gi} : a;  // the candidates of the grown box
     // World<T>'s pair test: the AABBs grown by half the contact tolerance
     // (eqs 38-39, 97), or, oriented-box model, by each body's growth (107).
-    auto touches = [&](int j, const Vec3<float>& pj, const Vec3<float>& aj) {
-      if (!oriented) return canonical_pair(sc, i, p, a, j, pj, aj).hit;
-      const float gj = ro(grow + j);
-      return i < j ? grown_overlap(p, a, gi, pj, aj, gj) : grown_overlap(pj, aj, gj, p, a, gi);
+    auto touches = [&](int j, const Vec3<T>& pj, const Vec3<T>& aj) {
+      bool hit;
+      if (!oriented) {
+        hit = canonical_pair(sc, i, p, a, j, pj, aj).hit;
+      } else {
+        const T gj = ro(grow + j);
+        hit = i < j ? grown_overlap(p, a, gi, pj, aj, gj) : grown_overlap(pj, aj, gj, p, a, gi);
+      }
+      note_faults<T>(sc.faults, i < j ? i : j, kFqPairContact);
+      return hit;
     };
-    visit_candidates(awake_grid, i, p, reach, tested, [&](int j, const Vec3<float>& pj, const Vec3<float>& aj) {
+    visit_candidates(awake_grid, i, p, reach, tested, [&](int j, const Vec3<T>& pj, const Vec3<T>& aj) {
       if (!touches(j, pj, aj)) return;
       if (m < lists.stride) out[m] = j;
       ++m;
       if (!woken_pass && i < j && !oriented) ++contacts;
     });
     if (!woken_pass) {
-      auto other = [&](int j, const Vec3<float>& pj, const Vec3<float>& aj) {
+      auto other = [&](int j, const Vec3<T>& pj, const Vec3<T>& aj) {
         if (!touches(j, pj, aj)) return;
         if (m < lists.stride) out[m] = j;
         ++m;
         if (!oriented) ++contacts;
         if (count_work && sc.sleep && (ro(b.flags + j) & kFlagAsleep) != 0) {
           const bool i_is_a = i < j;
-          const Vec3<float> vi = xyz(ro(b.vel + i)), vj = xyz(ro(b.vel + j));
-          const Vec3<float> va = i_is_a ? vi : vj, vb = i_is_a ? vj : vi;
+          const Vec3<T> vi = xyz(ro(b.vel + i)), vj = xyz(ro(b.vel + j));
+          const Vec3<T> va = i_is_a ? vi : vj, vb = i_is_a ? vj : vi;
           bool wakes_j = false;
           if (!oriented) {
-            const PairContact<float> c = canonical_pair(sc, i, p, a, j, pj, aj);
+            const PairContact<T> c = canonical_pair(sc, i, p, a, j, pj, aj);
             wakes_j = wake_test(va, !i_is_a, vb, i_is_a, c.n, c.penetration, sc.P);
           } else {  // eq 81 on each point of the pair's manifold
-            const Mat3<float> Ri = rotation_matrix(quat(ro(b.rot + i))), Rj = rotation_matrix(quat(ro(b.rot + j)));
-            const Vec3<float> hi = xyz(ro(b.half + i)), hj = xyz(ro(b.half + j));
-            const float gj = ro(grow + j);
-            const BoxManifold<float> mf = i_is_a ? pair_manifold(sc, p, Ri, hi, gi, pj, Rj, hj, gj)
+            const Mat3<T> Ri = rotation_matrix(quat(ro(b.rot + i))), Rj = rotation_matrix(quat(ro(b.rot + j)));
+            const Vec3<T> hi = xyz(ro(b.half + i)), hj = xyz(ro(b.half + j));
+            const T gj = ro(grow + j);
+            const BoxManifold<T> mf = i_is_a ? pair_manifold(sc, p, Ri, hi, gi, pj, Rj, hj, gj)
                                                  : pair_manifold(sc, pj, Rj, hj, gj, p, Ri, hi, gi);
             for (int q = 0; q < mf.count && !wakes_j; ++q)
               wakes_j = wake_test(va, !i_is_a, vb, i_is_a, mf.n, mf.penetration[q], sc.P);
           }
+          note_faults<T>(sc.faults, i < j ? i : j, kFqPairContact);
           if (wakes_j && claim_flag(&wake_flag[j])) woken[fetch_add(n_woken, 1)] = j;
         }
       };
@@ -161,14 +170,15 @@ struct SlotIndexK {
 };
 
 // Woken bodies join the active set after the awake ones (slots n_awake..).
+template <class T>
 struct WakeApplyK {
   const int* woken;
-  BodyArrays b;
+  BodyArrays<T> b;
   int* wake_flag;
   int* active;
   int n_awake;
-  float* grow = nullptr;  // oriented-box model: a body woken here was asleep at the broadphase (growth half_tol)
-  float half_tol = 0.0f;
+  T* grow = nullptr;  // oriented-box model: a body woken here was asleep at the broadphase (growth half_tol)
+  T half_tol = T{};
   LS_HD void operator()(int k) const {
     const int i = woken[k];
     b.flags[i] = static_cast<std::uint8_t>(b.flags[i] & ~kFlagAsleep);

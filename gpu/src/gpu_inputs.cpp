@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "lockstep/fixed/q16_num.hpp"
 #include "lockstep/input_check.hpp"
 #include "lockstep/scene_json.hpp"
 #include "lockstep/physics/aabb.hpp"
@@ -13,10 +14,12 @@
 namespace lockstep::gpu {
 namespace {
 
-Vec3<float> to_vec(const Vec3d& v) {
-  return {Num<float>::from_double(v.x), Num<float>::from_double(v.y), Num<float>::from_double(v.z)};
+template <class T>
+Vec3<T> to_vec(const Vec3d& v) {
+  return {Num<T>::from_double(v.x), Num<T>::from_double(v.y), Num<T>::from_double(v.z)};
 }
-bool finite3(const Vec3<float>& v) { return Num<float>::finite(v.x) && Num<float>::finite(v.y) && Num<float>::finite(v.z); }
+template <class T>
+bool finite3(const Vec3<T>& v) { return Num<T>::finite(v.x) && Num<T>::finite(v.y) && Num<T>::finite(v.z); }
 std::string body_text(std::size_t i, BodyId id) {
   return "body " + std::to_string(i) + " (" + input_check::id_text(id.slot, id.generation) + ")";
 }
@@ -26,10 +29,11 @@ std::string body_text(std::size_t i, BodyId id) {
 // constants of every body. An input marks it dirty (a rebuild before the
 // next step) only once it is checked and applied, so that a refused input
 // changes nothing.
-void GpuInputs::begin(PipelineBase& pipeline) {
+template <class T>
+void GpuInputs<T>::begin(PipelineBase<T>& pipeline) {
   if (dirty_ || copy_frame_ == pipeline.frame()) return;
   pipeline.download(edit_, true);
-  const InitialState s = make_initial_state(scene_);
+  const InitialState<T> s = make_initial_state<T>(scene_);
   half_ = s.half;
   inert_ = s.inert;
   if (edit_.rest_count.empty()) {  // the AABB model keeps no records
@@ -39,7 +43,8 @@ void GpuInputs::begin(PipelineBase& pipeline) {
   copy_frame_ = pipeline.frame();
 }
 
-void GpuInputs::wake(std::size_t i) {
+template <class T>
+void GpuInputs<T>::wake(std::size_t i) {
   if ((edit_.flags[i] & kFlagAsleep) == 0 || (edit_.flags[i] & kFlagStatic) != 0) return;
   edit_.flags[i] = static_cast<std::uint8_t>(edit_.flags[i] & ~kFlagAsleep);
   edit_.sleep_counter[i] = 0;
@@ -47,7 +52,8 @@ void GpuInputs::wake(std::size_t i) {
   ++wakes_;
 }
 
-void GpuInputs::wake_resting_on(std::size_t i) {
+template <class T>
+void GpuInputs<T>::wake_resting_on(std::size_t i) {
   for (std::size_t j = 0; j < edit_.flags.size(); ++j) {
     if ((edit_.flags[j] & kFlagAsleep) == 0) continue;
     bool on_i = false;
@@ -56,11 +62,13 @@ void GpuInputs::wake_resting_on(std::size_t i) {
   }
 }
 
-void GpuInputs::wake_all() {
+template <class T>
+void GpuInputs<T>::wake_all() {
   for (std::size_t j = 0; j < edit_.flags.size(); ++j) wake(j);
 }
 
-void GpuInputs::erase(std::size_t k) {
+template <class T>
+void GpuInputs<T>::erase(std::size_t k) {
   const auto at = static_cast<std::ptrdiff_t>(k);
   for (auto* v : {&edit_.pos, &edit_.rot, &edit_.vel, &edit_.ang, &half_, &inert_}) v->erase(v->begin() + at);
   edit_.flags.erase(edit_.flags.begin() + at);
@@ -75,20 +83,21 @@ void GpuInputs::erase(std::size_t k) {
   ids_.remove(k);
 }
 
-BodyId GpuInputs::apply(const Input& in, PipelineBase& pipeline) {
+template <class T>
+BodyId GpuInputs<T>::apply(const Input& in, PipelineBase<T>& pipeline) {
   const int frame = pipeline.frame();
   input_check::frame(in.frame, frame);
   if (in.kind == InputKind::create) {
     if (scene_.bodies.size() >= kMaxSceneBodies)
       throw std::invalid_argument("create_body: the world has " + std::to_string(scene_.bodies.size()) +
                                   " bodies, the most a scene may hold; destroy one first");
-    input_check::body(scene_, in.body, "float", "create_body", "input.body");
+    input_check::body(scene_, in.body, Num<T>::kName, "create_body", "input.body");
     begin(pipeline);
     Scene one;  // the body alone, with the scene's constants and effects
     one.constants = scene_.constants;
     one.effects = scene_.effects;
     one.bodies = {in.body};
-    const InitialState s = make_initial_state(one);  // World<float>'s body, term by term
+    const InitialState<T> s = make_initial_state<T>(one);  // World<float>'s body, term by term
     edit_.pos.push_back(s.pos[0]); edit_.rot.push_back(s.rot[0]); edit_.vel.push_back(s.vel[0]);
     edit_.ang.push_back(s.ang[0]); half_.push_back(s.half[0]); inert_.push_back(s.inert[0]);
     edit_.flags.push_back(static_cast<std::uint8_t>(s.flags[0] & (scene_.effects.sleep ? 0xff : ~kFlagAsleep)));
@@ -119,17 +128,17 @@ BodyId GpuInputs::apply(const Input& in, PipelineBase& pipeline) {
                           "give a world point within +-32000 m (normally on or in the body)");
       if (is_static) break;
       begin(pipeline);
-      const F4 p = edit_.pos[i];
-      const Mat3<float> R = rotation_matrix(quat(edit_.rot[i]));
-      const Vec3<float> j = to_vec(in.a), r = to_vec(in.b) - xyz(p);
-      const Vec3<float> v = xyz(edit_.vel[i]) + j * p.w;
-      const Vec3<float> w = xyz(edit_.ang[i]) + apply_inverse_inertia(R, xyz(inert_[i]), cross(r, j));  // eqs 87, 90
+      const T4<T> p = edit_.pos[i];
+      const Mat3<T> R = rotation_matrix(quat(edit_.rot[i]));
+      const Vec3<T> j = to_vec<T>(in.a), r = to_vec<T>(in.b) - xyz(p);
+      const Vec3<T> v = xyz(edit_.vel[i]) + j * p.w;
+      const Vec3<T> w = xyz(edit_.ang[i]) + apply_inverse_inertia(R, xyz(inert_[i]), cross(r, j));  // eqs 87, 90
       if (!finite3(v) || !finite3(w))
-        throw std::invalid_argument(what + ": the body's velocity would leave the float engine's range; give a smaller impulse");
+        throw std::invalid_argument(what + ": the body's velocity would leave the engine's range; give a smaller impulse");
       dirty_ = true;
       wake(i);
-      edit_.vel[i] = f4(v, 0.0f);
-      edit_.ang[i] = f4(w, 0.0f);
+      edit_.vel[i] = f4(v, T{});
+      edit_.ang[i] = f4(w, T{});
       edit_.sleep_counter[i] = 0;
       break;
     }
@@ -142,10 +151,10 @@ BodyId GpuInputs::apply(const Input& in, PipelineBase& pipeline) {
       const int body = static_cast<int>(i);
       auto it = std::lower_bound(forces_.begin(), forces_.end(), body, [](const Force& f, int x) { return f.body < x; });
       if (it != forces_.end() && it->body == body) {
-        it->f = it->f + to_vec(in.a);
-        it->tau = it->tau + to_vec(in.b);
+        it->f = it->f + to_vec<T>(in.a);
+        it->tau = it->tau + to_vec<T>(in.b);
       } else {
-        forces_.insert(it, Force{body, to_vec(in.a), to_vec(in.b)});
+        forces_.insert(it, Force{body, to_vec<T>(in.a), to_vec<T>(in.b)});
       }
       wake(i);
       edit_.sleep_counter[i] = 0;
@@ -155,12 +164,12 @@ BodyId GpuInputs::apply(const Input& in, PipelineBase& pipeline) {
       BodyDesc desc = scene_.bodies[i];
       desc.position = in.a;
       desc.orientation = in.q;
-      input_check::body(scene_, desc, "float", what, "input");
+      input_check::body(scene_, desc, Num<T>::kName, what, "input");
       begin(pipeline);
       dirty_ = true;
-      edit_.pos[i] = f4(to_vec(in.a), edit_.pos[i].w);
-      const auto n = [](double x) { return Num<float>::from_double(x); };
-      edit_.rot[i] = f4(normalize(Quat<float>{n(in.q.w), n(in.q.x), n(in.q.y), n(in.q.z)}));  // eq 10
+      edit_.pos[i] = f4(to_vec<T>(in.a), edit_.pos[i].w);
+      const auto n = [](double x) { return Num<T>::from_double(x); };
+      edit_.rot[i] = f4(normalize(Quat<T>{n(in.q.w), n(in.q.x), n(in.q.y), n(in.q.z)}));  // eq 10
       if (is_static) {
         wake_all();
       } else {
@@ -179,12 +188,12 @@ BodyId GpuInputs::apply(const Input& in, PipelineBase& pipeline) {
       BodyDesc desc = scene_.bodies[i];
       desc.velocity = in.a;
       desc.angular_velocity = in.b;
-      input_check::body(scene_, desc, "float", what, "input");
+      input_check::body(scene_, desc, Num<T>::kName, what, "input");
       begin(pipeline);
       dirty_ = true;
       wake(i);
-      edit_.vel[i] = f4(to_vec(in.a), 0.0f);
-      edit_.ang[i] = f4(to_vec(in.b), 0.0f);
+      edit_.vel[i] = f4(to_vec<T>(in.a), T{});
+      edit_.ang[i] = f4(to_vec<T>(in.b), T{});
       edit_.sleep_counter[i] = 0;
       break;
     }
@@ -205,30 +214,32 @@ BodyId GpuInputs::apply(const Input& in, PipelineBase& pipeline) {
 
 // The rebuilt pipeline's state: the edited bodies, exactly (q is not
 // normalised again), and eq 121's pending forces.
-InitialState GpuInputs::take_state() {
+template <class T>
+InitialState<T> GpuInputs<T>::take_state() {
   Scene now = scene_;
   for (std::size_t i = 0; i < now.bodies.size(); ++i) {
     BodyDesc& d = now.bodies[i];
-    const F4 p = edit_.pos[i], v = edit_.vel[i], w = edit_.ang[i];
-    d.position = {p.x, p.y, p.z};  // float -> double -> float: exact
-    d.velocity = {v.x, v.y, v.z};
-    d.angular_velocity = {w.x, w.y, w.z};
+    const T4<T> p = edit_.pos[i], v = edit_.vel[i], w = edit_.ang[i];
+    auto d3 = [](const T& x, const T& y, const T& z) { return Vec3d{Num<T>::to_double(x), Num<T>::to_double(y), Num<T>::to_double(z)}; };
+    d.position = d3(p.x, p.y, p.z);  // T -> double -> T: exact
+    d.velocity = d3(v.x, v.y, v.z);
+    d.angular_velocity = d3(w.x, w.y, w.z);
     d.asleep = (edit_.flags[i] & kFlagAsleep) != 0;
   }
-  InitialState s = make_initial_state(now);
-  const float dt = s.P.dt;
+  InitialState<T> s = make_initial_state<T>(now);
+  const T dt = s.P.dt;
   for (std::size_t i = 0; i < now.bodies.size(); ++i) {
     s.rot[i] = edit_.rot[i];
-    const Vec3<float> a = rotated_half_extents(rotation_matrix(quat(s.rot[i])), xyz(s.half[i]));  // eq 31
-    s.aabb[i] = f4(a, Num<float>::max(a.x, Num<float>::max(a.y, a.z)));
+    const Vec3<T> a = rotated_half_extents(rotation_matrix(quat(s.rot[i])), xyz(s.half[i]));  // eq 31
+    s.aabb[i] = f4(a, Num<T>::max(a.x, Num<T>::max(a.y, a.z)));
     s.sleep_counter[i] = edit_.sleep_counter[i];
     s.sleep_frame[i] = edit_.sleep_frame[i];
   }
   for (const Force& f : forces_) {  // eq 121, as World<T>'s stage 0
     const auto i = static_cast<std::size_t>(f.body);
-    const Mat3<float> R = rotation_matrix(quat(s.rot[i]));
-    s.vel[i] = f4(xyz(s.vel[i]) + (f.f * dt) * s.pos[i].w, 0.0f);
-    s.ang[i] = f4(xyz(s.ang[i]) + apply_inverse_inertia(R, xyz(s.inert[i]), f.tau * dt), 0.0f);
+    const Mat3<T> R = rotation_matrix(quat(s.rot[i]));
+    s.vel[i] = f4(xyz(s.vel[i]) + (f.f * dt) * s.pos[i].w, T{});
+    s.ang[i] = f4(xyz(s.ang[i]) + apply_inverse_inertia(R, xyz(s.inert[i]), f.tau * dt), T{});
   }
   forces_.clear();
   dirty_ = false;
@@ -236,5 +247,8 @@ InitialState GpuInputs::take_state() {
   wakes_ = 0;
   return s;
 }
+
+template class GpuInputs<float>;
+template class GpuInputs<Q16>;
 
 }  // namespace lockstep::gpu

@@ -5,7 +5,7 @@
 // a removal closes the gap) and World<T>'s ids (BodyIds). The rebuilt
 // pipeline starts without a warm-start cache (eq 96) and without eq 108's
 // records: deterministic (the same inputs in the same frames give the same
-// bits), but not World<float>'s bits.
+// bits), but not World<T>'s bits.
 #pragma once
 #include <memory>
 #include <utility>
@@ -19,22 +19,24 @@
 
 namespace lockstep::gpu {
 
+template <class T>
 class GpuInputs {
  public:
+  using F4 = T4<T>;
   explicit GpuInputs(const Scene& scene) : scene_(scene) { ids_.reset(scene.bodies.size()); }
 
   // Applies the input to the host copy (downloaded from `pipeline` first
   // when there is none); `frame` is the pipeline's. Returns the created id
   // (create) or input.id. Throws std::invalid_argument as World<T>::apply.
-  BodyId apply(const Input& input, PipelineBase& pipeline);
+  BodyId apply(const Input& input, PipelineBase<T>& pipeline);
   // Whether inputs wait for a rebuild, and the edited state they left.
   bool pending() const { return dirty_; }
-  const HostState& state() const { return edit_; }
+  const HostState<T>& state() const { return edit_; }
   const std::vector<F4>& inert() const { return inert_; }
   int body_count() const { return static_cast<int>(scene_.bodies.size()); }
   // The initial state of the rebuilt pipeline (the pending forces applied,
   // eq 121); clears pending().
-  InitialState take_state();
+  InitialState<T> take_state();
   const BodyIds& ids() const { return ids_; }
   // Snapshots (gpu_world.cpp): the bodies' shapes now (created ones
   // appended), and the id table of a loaded snapshot.
@@ -45,8 +47,8 @@ class GpuInputs {
   std::uint64_t wakes() const { return wakes_; }
 
  private:
-  struct Force { int body; Vec3<float> f, tau; };
-  void begin(PipelineBase& pipeline);
+  struct Force { int body; Vec3<T> f, tau; };
+  void begin(PipelineBase<T>& pipeline);
   void wake(std::size_t i);
   void wake_resting_on(std::size_t i);
   void wake_all();
@@ -54,7 +56,7 @@ class GpuInputs {
 
   Scene scene_;     // every body's shape (created ones appended), as World<T>::scene()
   BodyIds ids_;
-  HostState edit_;  // full: with sleep counters and eq 108's supporters
+  HostState<T> edit_;  // full: with sleep counters and eq 108's supporters
   std::vector<F4> half_, inert_;  // per body, as InitialState
   std::vector<Force> forces_;     // ascending body
   bool dirty_ = false;   // an input changed the copy: the next step rebuilds the pipeline

@@ -9,6 +9,7 @@
 
 #include "snapshot_bytes.hpp"
 #include "snapshot.hpp"
+#include "lockstep/fixed/q16_num.hpp"
 
 namespace lockstep::gpu {
 
@@ -17,30 +18,41 @@ namespace {
 constexpr double kMaxCoordinate = 32768.0;  // positions, support points (m); velocities (m/s, rad/s)
 constexpr double kMaxImpulse = 2147483648.0;
 
+// A value's 4 bytes: a float's IEEE bits, a Q16.16's raw int32.
 void f32(snap::Writer& w, float x) {
   std::uint32_t u;
   std::memcpy(&u, &x, sizeof u);
   w.u32(u);
 }
-void f4(snap::Writer& w, const F4& a) { f32(w, a.x); f32(w, a.y); f32(w, a.z); f32(w, a.w); }
-void f3(snap::Writer& w, const F4& a) { f32(w, a.x); f32(w, a.y); f32(w, a.z); }
+void f32(snap::Writer& w, Q16 x) { w.u32(static_cast<std::uint32_t>(x.raw())); }
+template <class T>
+void f4(snap::Writer& w, const T4<T>& a) { f32(w, a.x); f32(w, a.y); f32(w, a.z); f32(w, a.w); }
+template <class T>
+void f3(snap::Writer& w, const T4<T>& a) { f32(w, a.x); f32(w, a.y); f32(w, a.z); }
 
 [[noreturn]] void refuse(const std::string& field, const std::string& what) { throw SnapshotError(field + ": " + what, field); }
 
+template <class T>
 class In {
  public:
+  using F4 = T4<T>;
   In(const std::uint8_t* data, std::size_t size) : r(data, size) {}
   snap::Reader r;
-  float f32(const char* field) {
+  T f32(const char* field) {
     const std::uint32_t u = r.u32(field);
-    float x;
-    std::memcpy(&x, &u, sizeof x);
-    return x;
+    if constexpr (Num<T>::kExact) {
+      return T::from_raw(static_cast<std::int32_t>(u));
+    } else {
+      T x;
+      std::memcpy(&x, &u, sizeof x);
+      return x;
+    }
   }
-  // A float within |x| < limit (finite).
-  float bounded(const std::string& field, double limit) {
-    const float x = f32(field.c_str());
-    if (!(std::fabs(static_cast<double>(x)) < limit)) refuse(field, std::to_string(x) + " is not finite or not below " + std::to_string(limit));
+  // A value within |x| < limit (finite).
+  T bounded(const std::string& field, double limit) {
+    const T x = f32(field.c_str());
+    const double d = Num<T>::to_double(x);
+    if (!(std::fabs(d) < limit)) refuse(field, std::to_string(d) + " is not finite or not below " + std::to_string(limit));
     return x;
   }
   F4 f3(const std::string& field, double limit) {
@@ -77,7 +89,8 @@ bool pow2(int x) { return x > 0 && (x & (x - 1)) == 0; }
 
 }  // namespace
 
-void write_gpu_state(std::vector<std::uint8_t>& out, const GpuState& s, std::uint8_t options, bool oriented,
+template <class T>
+void write_gpu_state(std::vector<std::uint8_t>& out, const GpuState<T>& s, std::uint8_t options, bool oriented,
                      int imm_stride) {
   snap::Writer w(out);
   w.u8(options);
@@ -107,7 +120,7 @@ void write_gpu_state(std::vector<std::uint8_t>& out, const GpuState& s, std::uin
         const int count = s.sleep_count[i];
         w.varint(static_cast<std::uint64_t>(count));
         for (int k = 0; k < count && k < kMaxSupportPoints; ++k) {
-          const F4& a = s.sleep_arms[i * kMaxSupportPoints + static_cast<std::size_t>(k)];
+          const T4<T>& a = s.sleep_arms[i * kMaxSupportPoints + static_cast<std::size_t>(k)];
           f32(w, a.x);
           f32(w, a.z);
         }
@@ -121,7 +134,7 @@ void write_gpu_state(std::vector<std::uint8_t>& out, const GpuState& s, std::uin
   w.varint(static_cast<std::uint64_t>(s.colours));
   w.u8(s.frozen_dirty ? 1 : 0);
   w.varint(s.slot_body.size());
-  const F4 zero{};
+  const T4<T> zero{};
   for (std::size_t k = 0; k < s.slot_body.size(); ++k) {
     w.varint(static_cast<std::uint64_t>(s.slot_body[k]));
     w.varint(static_cast<std::uint64_t>(s.ground_mask[k]));
@@ -158,10 +171,11 @@ void write_gpu_state(std::vector<std::uint8_t>& out, const GpuState& s, std::uin
   snap::each_counter(s.counters, [&w](std::uint64_t x) { w.varint(x); });
 }
 
-GpuState read_gpu_state(const std::uint8_t* data, std::size_t size, const InitialState& init, int imm_stride,
-                        std::uint32_t frame, std::uint8_t& options) {
-  In in(data, size);
-  GpuState s;
+template <class T>
+GpuState<T> read_gpu_state(const std::uint8_t* data, std::size_t size, const InitialState<T>& init, int imm_stride,
+                           std::uint32_t frame, std::uint8_t& options) {
+  In<T> in(data, size);
+  GpuState<T> s;
   s.frame = static_cast<int>(frame);
   options = in.r.u8("gpu.options");
   if (options > kSnapshotJacobi) refuse("gpu.options", "unknown option bits " + std::to_string(options));
@@ -173,11 +187,11 @@ GpuState read_gpu_state(const std::uint8_t* data, std::size_t size, const Initia
   s.flags.resize(n); s.sleep_counter.resize(n); s.sleep_frame.resize(n);
   if (oriented) {
     s.grow.resize(n); s.rest_count.assign(n, 0); s.rest_body.assign(kMaxRests * n, 0);
-    s.rest_local.assign(kMaxRests * n, F4{}); s.rest_point.assign(kMaxRests * n, F4{}); s.rest_last.assign(kMaxRests * n, F4{});
+    s.rest_local.assign(kMaxRests * n, T4<T>{}); s.rest_point.assign(kMaxRests * n, T4<T>{}); s.rest_last.assign(kMaxRests * n, T4<T>{});
     if (init.fx.sleep) {  // eq 124's records
       s.sleep_parent.assign(n, kLoadNone);
       s.sleep_count.assign(n, 0);
-      s.sleep_arms.assign(static_cast<std::size_t>(kMaxSupportPoints) * n, F4{});
+      s.sleep_arms.assign(static_cast<std::size_t>(kMaxSupportPoints) * n, T4<T>{});
     }
   }
   std::size_t awake_count = 0;
@@ -193,22 +207,22 @@ GpuState read_gpu_state(const std::uint8_t* data, std::size_t size, const Initia
     s.pos[i] = in.f3(b + ".p", kMaxCoordinate);
     s.pos[i].w = init.pos[i].w;  // the inverse mass: the scene's
     s.rot[i] = in.f4(b + ".q", 2.0);
-    const F4 q = s.rot[i];
-    const double norm = static_cast<double>(q.x) * q.x + static_cast<double>(q.y) * q.y + static_cast<double>(q.z) * q.z +
-                        static_cast<double>(q.w) * q.w;
+    const T4<T> q = s.rot[i];
+    auto d = [](const T& x) { return Num<T>::to_double(x); };
+    const double norm = d(q.x) * d(q.x) + d(q.y) * d(q.y) + d(q.z) * d(q.z) + d(q.w) * d(q.w);
     if (!(norm >= 0.25 && norm <= 4.0)) refuse(b + ".q", "not a unit quaternion (squared norm " + std::to_string(norm) + ")");
     s.vel[i] = in.f3(b + ".v", kMaxCoordinate);
     s.ang[i] = in.f3(b + ".w", kMaxCoordinate);
     s.aabb[i] = in.f4(b + ".aabb", 2 * kMaxCoordinate);
-    if (s.aabb[i].x < 0 || s.aabb[i].y < 0 || s.aabb[i].z < 0 || s.aabb[i].w < 0) refuse(b + ".aabb", "a negative half extent");
-    if ((flags & kFlagStatic) && (s.vel[i].x != 0 || s.vel[i].y != 0 || s.vel[i].z != 0 || s.ang[i].x != 0 ||
-                                  s.ang[i].y != 0 || s.ang[i].z != 0))
+    if (s.aabb[i].x < T{} || s.aabb[i].y < T{} || s.aabb[i].z < T{} || s.aabb[i].w < T{}) refuse(b + ".aabb", "a negative half extent");
+    if ((flags & kFlagStatic) && (s.vel[i].x != T{} || s.vel[i].y != T{} || s.vel[i].z != T{} || s.ang[i].x != T{} ||
+                                  s.ang[i].y != T{} || s.ang[i].z != T{}))
       refuse(b, "a static body that moves");
     s.sleep_counter[i] = in.small(b + ".sleep_counter", 0, 1 << 30);
     s.sleep_frame[i] = in.small(b + ".sleep_frame", -1, static_cast<std::int64_t>(frame));
     if (oriented) {
       s.grow[i] = in.bounded(b + ".grow", kMaxCoordinate);
-      if (s.grow[i] < 0) refuse(b + ".grow", "negative");
+      if (s.grow[i] < T{}) refuse(b + ".grow", "negative");
       const int rests = in.r.u8("bodies.rests");
       if (rests > kMaxRests || ((flags & kFlagStatic) && rests > 0))
         refuse(b + ".rests", std::to_string(rests) + " records (at most " + std::to_string(kMaxRests) + ", none for a static body)");
@@ -235,7 +249,7 @@ GpuState read_gpu_state(const std::uint8_t* data, std::size_t size, const Initia
                                            std::to_string(kMaxSupportPoints + 1) + " (many)");
         s.sleep_count[i] = static_cast<int>(count);
         for (int k = 0; k < s.sleep_count[i] && k < kMaxSupportPoints; ++k) {
-          F4& a = s.sleep_arms[i * kMaxSupportPoints + static_cast<std::size_t>(k)];
+          T4<T>& a = s.sleep_arms[i * kMaxSupportPoints + static_cast<std::size_t>(k)];
           a.x = in.bounded(b + ".support.arms", kMaxCoordinate);
           a.z = in.bounded(b + ".support.arms", kMaxCoordinate);
         }
@@ -272,7 +286,7 @@ GpuState read_gpu_state(const std::uint8_t* data, std::size_t size, const Initia
   std::fill(seen.begin(), seen.end(), 0);
   s.slot_body.resize(slots);
   s.ground_mask.resize(slots);
-  s.imm.assign(slots * per, F4{});
+  s.imm.assign(slots * per, T4<T>{});
   s.nbr_begin.assign(1, 0);
   for (std::size_t k = 0; k < slots; ++k) {
     const std::string f = "slots[" + std::to_string(k) + "]";
@@ -306,7 +320,7 @@ GpuState read_gpu_state(const std::uint8_t* data, std::size_t size, const Initia
         for (int u = 0; u < kSnapshotManifoldPoints; ++u) {
           const bool present = u < points;
           s.man_feature.push_back(present ? in.small(f + ".manifold.feature", 0, 1 << 20) : 0);
-          s.man_impulse.push_back(present ? in.f4(f + ".manifold.impulse", kMaxImpulse) : F4{});
+          s.man_impulse.push_back(present ? in.f4(f + ".manifold.impulse", kMaxImpulse) : T4<T>{});
         }
       } else {
         s.pair.push_back(in.f4(f + ".pair", kMaxImpulse));
@@ -340,5 +354,12 @@ GpuState read_gpu_state(const std::uint8_t* data, std::size_t size, const Initia
   if (in.r.left() != 0) refuse("end", std::to_string(in.r.left()) + " bytes after the counters");
   return s;
 }
+
+template void write_gpu_state<float>(std::vector<std::uint8_t>&, const GpuState<float>&, std::uint8_t, bool, int);
+template void write_gpu_state<Q16>(std::vector<std::uint8_t>&, const GpuState<Q16>&, std::uint8_t, bool, int);
+template GpuState<float> read_gpu_state<float>(const std::uint8_t*, std::size_t, const InitialState<float>&, int,
+                                               std::uint32_t, std::uint8_t&);
+template GpuState<Q16> read_gpu_state<Q16>(const std::uint8_t*, std::size_t, const InitialState<Q16>&, int,
+                                           std::uint32_t, std::uint8_t&);
 
 }  // namespace lockstep::gpu

@@ -17,12 +17,16 @@ namespace lockstep::gpu {
 inline constexpr std::uint8_t kSnapshotJacobi = 1;
 
 // Appends the state (after the scene section) to `out`.
-void write_gpu_state(std::vector<std::uint8_t>& out, const GpuState& s, std::uint8_t options, bool oriented,
+// For float ("gpu", number type 5) and Q16 ("gpu-fixed", number type 6):
+// the same fields, each value's 4 bytes (IEEE bits, or the raw Q16.16).
+template <class T>
+void write_gpu_state(std::vector<std::uint8_t>& out, const GpuState<T>& s, std::uint8_t options, bool oriented,
                      int imm_stride);
 
 // Reads the state after the scene section; `init` is the scene's initial state
 // (static flags, the inverse masses pos.w). The options byte is returned in `options`.
-GpuState read_gpu_state(const std::uint8_t* data, std::size_t size, const InitialState& init, int imm_stride,
-                        std::uint32_t frame, std::uint8_t& options);
+template <class T>
+GpuState<T> read_gpu_state(const std::uint8_t* data, std::size_t size, const InitialState<T>& init, int imm_stride,
+                           std::uint32_t frame, std::uint8_t& options);
 
 }  // namespace lockstep::gpu

@@ -14,14 +14,16 @@ namespace lockstep::gpu {
 
 inline constexpr int kSnapshotManifoldPoints = 4;  // a pair's points (kBoxManifoldPoints)
 
+template <class T>
 struct GpuState {
+  using F4 = T4<T>;
   int frame = 0;
   StageCounters counters;
   // Per body (scene order).
   std::vector<F4> pos, rot, aabb, vel, ang;  // pos.w (inverse mass) and aabb are as the engine keeps them
   std::vector<std::uint8_t> flags;
   std::vector<int> sleep_counter, sleep_frame;
-  std::vector<float> grow;                   // oriented-box model: eqs 97, 107
+  std::vector<T> grow;                       // oriented-box model: eqs 97, 107
   std::vector<int> rest_count;               // oriented-box model: eq 108's records
   std::vector<int> rest_body;                // kMaxRests per body
   std::vector<F4> rest_local, rest_point, rest_last;

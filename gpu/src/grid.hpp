@@ -20,26 +20,37 @@ namespace lockstep::gpu {
 // What a grid needs to know of its members: the largest AABB half extent
 // and the box of their centres. Reduced with min and max, which are exact,
 // so the result does not depend on the order of the reduction.
+// The reduction's identity for the box of centres: a value above every
+// coordinate (3e38 in float; the largest Q16.16, which no position reaches:
+// eq 20's range is guarded by the scene limits).
+template <class T>
+LS_HD inline T bounds_far() {
+  if constexpr (Num<T>::kExact) return T::from_raw(0x7fffffff);
+  else return static_cast<T>(3.0e38f);
+}
+template <class T>
 struct Bounds {
-  float amax = 0.0f;
-  float gmax = 0.0f;  // oriented-box model: the largest AABB growth of a member (eqs 97, 107); 0 otherwise
-  float lo[3] = {3.0e38f, 3.0e38f, 3.0e38f};
-  float hi[3] = {-3.0e38f, -3.0e38f, -3.0e38f};
+  T amax{};
+  T gmax{};  // oriented-box model: the largest AABB growth of a member (eqs 97, 107); 0 otherwise
+  T lo[3] = {bounds_far<T>(), bounds_far<T>(), bounds_far<T>()};
+  T hi[3] = {-bounds_far<T>(), -bounds_far<T>(), -bounds_far<T>()};
 };
+template <class T>
 struct BoundsOp {
-  LS_HD Bounds operator()(const Bounds& a, const Bounds& b) const {
-    Bounds r;
-    r.amax = Num<float>::max(a.amax, b.amax);
-    r.gmax = Num<float>::max(a.gmax, b.gmax);
+  LS_HD Bounds<T> operator()(const Bounds<T>& a, const Bounds<T>& b) const {
+    Bounds<T> r;
+    r.amax = Num<T>::max(a.amax, b.amax);
+    r.gmax = Num<T>::max(a.gmax, b.gmax);
     for (int k = 0; k < 3; ++k) {
-      r.lo[k] = Num<float>::min(a.lo[k], b.lo[k]);
-      r.hi[k] = Num<float>::max(a.hi[k], b.hi[k]);
+      r.lo[k] = Num<T>::min(a.lo[k], b.lo[k]);
+      r.hi[k] = Num<T>::max(a.hi[k], b.hi[k]);
     }
     return r;
   }
 };
-LS_HD inline Bounds bounds_of(const F4& p, const F4& aabb) {
-  Bounds b;
+template <class T>
+LS_HD inline Bounds<T> bounds_of(const T4<T>& p, const T4<T>& aabb) {
+  Bounds<T> b;
   b.amax = max_half_of(aabb);
   b.lo[0] = b.hi[0] = p.x;
   b.lo[1] = b.hi[1] = p.y;
@@ -47,9 +58,10 @@ LS_HD inline Bounds bounds_of(const F4& p, const F4& aabb) {
   return b;
 }
 
+template <class T>
 struct GridParams {
-  float inv_cell = 1.0f;  // 1 / cell size (1/m)
-  float reach = 0.0f;     // largest AABB half extent of a member, plus margin (m)
+  T inv_cell = Num<T>::from_int(1);  // 1 / cell size (1/m)
+  T reach{};              // largest AABB half extent of a member, plus margin (m)
   int dense = 0;          // 1: linear cell keys; 0: hashed
   int origin[3] = {0, 0, 0};  // dense: the box's lowest cell
   int dims[3] = {1, 1, 1};    // dense: the box's cells per axis
@@ -62,11 +74,12 @@ struct alignas(16) CellEntry {
 };
 
 // What the gather reads of a sorted grid entry, in one 32-byte sector.
+template <class T>
 struct alignas(32) GridEntry {
-  float px, py, pz;  // centre (m)
+  T px, py, pz;  // centre (m)
   int body;
-  float ax, ay, az;  // AABB half extents (m)
-  float unused;
+  T ax, ay, az;  // AABB half extents (m)
+  T unused;
 };
 LS_HD inline CellEntry ro(const CellEntry* e) {
 #if defined(__CUDA_ARCH__)
@@ -76,10 +89,14 @@ LS_HD inline CellEntry ro(const CellEntry* e) {
   return *e;
 #endif
 }
-LS_HD inline GridEntry ro(const GridEntry* e) {
+template <class T>
+LS_HD inline GridEntry<T> ro(const GridEntry<T>* e) {
 #if defined(__CUDA_ARCH__)
-  const float4 u = __ldg(reinterpret_cast<const float4*>(e)), v = __ldg(reinterpret_cast<const float4*>(e) + 1);
-  return GridEntry{u.x, u.y, u.z, __float_as_int(u.w), v.x, v.y, v.z, v.w};
+  static_assert(sizeof(GridEntry<T>) == 2 * sizeof(int4), "two 128-bit loads");
+  const int4 u[2] = {__ldg(reinterpret_cast<const int4*>(e)), __ldg(reinterpret_cast<const int4*>(e) + 1)};
+  GridEntry<T> r;
+  __builtin_memcpy(&r, u, sizeof r);
+  return r;
 #else
   return *e;
 #endif
@@ -98,11 +115,12 @@ LS_HD inline CellRange ro(const CellRange* r) {
 #endif
 }
 
+template <class T>
 struct GridView {
   const CellRange* range = nullptr;  // per table entry
-  const GridEntry* ent = nullptr;    // sorted entries: centre, body, AABB
+  const GridEntry<T>* ent = nullptr; // sorted entries: centre, body, AABB
   const CellEntry* ent_c = nullptr;  // their cells (hashed grids only)
-  const GridParams* gp = nullptr;
+  const GridParams<T>* gp = nullptr;
   bool present = false;
 };
 
@@ -112,11 +130,16 @@ struct GridView {
 // 97) only if its centre is within a + H + tol on every axis: the reach. The
 // dense box when it has at most `dense_limit` cells, else a hash table of
 // `hash_table` entries.
-LS_HD inline GridParams grid_params_for(const Bounds& b, float tol, long long dense_limit, unsigned hash_table) {
-  const float cell = Num<float>::max(2.0f * b.amax, 1.0f / 64.0f);
-  GridParams g;
-  g.inv_cell = 1.0f / cell;
-  g.reach = (b.amax + b.gmax + tol) * (1.0f + 1.0f / 1024.0f) + cell / 64.0f;
+// The cell is eq 125's (band_inverse: max(2 H, 1/64)) and its coordinates
+// eq 26's cell_coord, in the number type T, as World<T>'s broadphase computes
+// cells: x -> floor(x / cell) rounded is monotonic, so a member whose centre
+// lies within the reach lies in a visited cell (Q16.16: the sums are exact).
+template <class T>
+LS_HD inline GridParams<T> grid_params_for(const Bounds<T>& b, const T& tol, long long dense_limit, unsigned hash_table) {
+  const T cell = Num<T>::max(Num<T>::from_int(2) * b.amax, Num<T>::from_double(1.0 / 64.0));
+  GridParams<T> g;
+  g.inv_cell = Num<T>::from_int(1) / cell;
+  g.reach = (b.amax + b.gmax + tol) * Num<T>::from_double(1.0 + 1.0 / 1024.0) + cell / Num<T>::from_int(64);
   g.table = hash_table;
   if (!(b.lo[0] <= b.hi[0])) return g;  // no members
   long long cells = 1;
@@ -132,7 +155,8 @@ LS_HD inline GridParams grid_params_for(const Bounds& b, float tol, long long de
   return g;
 }
 
-LS_HD inline unsigned grid_key(const GridParams& g, int x, int y, int z) {
+template <class T>
+LS_HD inline unsigned grid_key(const GridParams<T>& g, int x, int y, int z) {
   if (g.dense)
     return static_cast<unsigned>(((x - g.origin[0]) * g.dims[1] + (y - g.origin[1])) * g.dims[2] + (z - g.origin[2]));
   return cell_hash(x, y, z) & (g.table - 1u);
@@ -142,14 +166,14 @@ LS_HD inline unsigned grid_key(const GridParams& g, int x, int y, int z) {
 // cell that an overlapping body's centre can lie in: per axis, within
 // a_self + reach of p_self (plus a relative margin for rounding). Counts the
 // candidates in `tested`.
-template <class Fn>
-LS_HD void visit_candidates(const GridView& g, int self, const Vec3<float>& p, const Vec3<float>& a, unsigned& tested,
+template <class T, class Fn>
+LS_HD void visit_candidates(const GridView<T>& g, int self, const Vec3<T>& p, const Vec3<T>& a, unsigned& tested,
                             Fn&& fn) {
   if (!g.present) return;
-  const GridParams gp = *g.gp;
+  const GridParams<T> gp = *g.gp;
   int lo[3], hi[3];
   for (int ax = 0; ax < 3; ++ax) {
-    const float r = a[ax] + gp.reach + Num<float>::abs(p[ax]) * (1.0f / 524288.0f);
+    const T r = a[ax] + gp.reach + Num<T>::abs(p[ax]) * Num<T>::from_double(1.0 / 524288.0);
     lo[ax] = cell_coord(p[ax] - r, gp.inv_cell);
     hi[ax] = cell_coord(p[ax] + r, gp.inv_cell);
   }
@@ -170,10 +194,10 @@ LS_HD void visit_candidates(const GridView& g, int self, const Vec3<float>& p, c
           e = c.end;
         }
         for (int t = s; t < e; ++t) {
-          const GridEntry en = ro(g.ent + t);
+          const GridEntry<T> en = ro(g.ent + t);
           if (en.body == self) continue;
           ++tested;
-          fn(en.body, Vec3<float>{en.px, en.py, en.pz}, Vec3<float>{en.ax, en.ay, en.az});
+          fn(en.body, Vec3<T>{en.px, en.py, en.pz}, Vec3<T>{en.ax, en.ay, en.az});
         }
       }
     return;
@@ -190,8 +214,8 @@ LS_HD void visit_candidates(const GridView& g, int self, const Vec3<float>& p, c
           if (c.x != x || c.y != y || c.z != z) continue;  // another cell with the same hash
           if (c.body == self) continue;
           ++tested;
-          const GridEntry en = ro(g.ent + t);
-          fn(c.body, Vec3<float>{en.px, en.py, en.pz}, Vec3<float>{en.ax, en.ay, en.az});
+          const GridEntry<T> en = ro(g.ent + t);
+          fn(c.body, Vec3<T>{en.px, en.py, en.pz}, Vec3<T>{en.ax, en.ay, en.az});
         }
       }
 }

@@ -58,9 +58,10 @@ class HostBackend {
     for (int k = 0; k < n; ++k) { out[k] = s; s += in[k]; }
     out[n] = s;
   }
-  void reduce_bounds(const Bounds* in, int n, Bounds* out) {
-    Bounds r;
-    for (int k = 0; k < n; ++k) r = BoundsOp{}(r, in[k]);
+  template <class T>
+  void reduce_bounds(const Bounds<T>* in, int n, Bounds<T>* out) {
+    Bounds<T> r;
+    for (int k = 0; k < n; ++k) r = BoundsOp<T>{}(r, in[k]);
     *out = r;
   }
   void fill_int(int* p, int v, std::size_t n) { std::fill(p, p + n, v); }

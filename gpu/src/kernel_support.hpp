@@ -4,7 +4,9 @@
 // kernels of the pipeline's bookkeeping.
 #pragma once
 #include <cstdint>
+#include <type_traits>
 
+#include "lockstep/fixed/q16_num.hpp"
 #include "lockstep/gpu/soa.hpp"
 
 namespace lockstep::gpu {
@@ -106,10 +108,14 @@ LS_HD inline void store_min(int* target, int v) {
 // device through the read-only data path (ld.global.nc), which lets the
 // compiler issue it ahead of the kernel's stores (more loads in flight);
 // a plain load in the host build. Only the data path differs, never the value.
-LS_HD inline F4 ro(const F4* p) {
+template <class T>
+LS_HD inline T4<T> ro(const T4<T>* p) {
 #if defined(__CUDA_ARCH__)
-  const float4 v = __ldg(reinterpret_cast<const float4*>(p));
-  return F4{v.x, v.y, v.z, v.w};
+  static_assert(sizeof(T4<T>) == sizeof(int4), "a group is one 128-bit load");
+  const int4 v = __ldg(reinterpret_cast<const int4*>(p));
+  T4<T> r;
+  __builtin_memcpy(&r, &v, sizeof r);
+  return r;
 #else
   return *p;
 #endif
@@ -117,10 +123,98 @@ LS_HD inline F4 ro(const F4* p) {
 template <class T>
 LS_HD inline T ro(const T* p) {
 #if defined(__CUDA_ARCH__)
-  return __ldg(p);
+  if constexpr (std::is_arithmetic_v<T>) {
+    return __ldg(p);
+  } else {  // a Q16.16: its int32 through the same path
+    static_assert(sizeof(T) == sizeof(int), "a 4-byte value");
+    const int v = __ldg(reinterpret_cast<const int*>(p));
+    T r;
+    __builtin_memcpy(&r, &v, sizeof r);
+    return r;
+  }
 #else
   return *p;
 #endif
+}
+
+// ---------------------------------------------------------------------------
+// Q16 faults (gpu-fixed, docs/GPU.md "gpu-fixed"). Each Q16 operation ORs
+// its flags into the calling thread's status word (q16.hpp: thread_local on
+// the host, the thread's word of a block-shared array on a device). A kernel
+// clears the word when its element starts and notes it where World<Q16>
+// checks (World<T>::check_faults): the frame's lowest (quantity << 26 | body)
+// and the OR of the flags, both integer atomics (min and OR: order-free), so
+// the pipeline stops the run after the frame with World<Q16>'s frame, the
+// first body by index in the first stage that faulted, and its quantity.
+// For float nothing is recorded (non-finite values: CommitSleepK).
+struct FaultSink {
+  int* code = nullptr;         // lowest quantity << kFaultBodyBits | body; INT_MAX: none
+  unsigned* flags = nullptr;   // the Q16Flag bits raised
+};
+inline constexpr int kFaultBodyBits = 26;  // bodies < 2^26
+// The quantities in the order of the frame's stages (docs/SPEC.md 7.2), as
+// World<T>::check_faults names them (fault_quantity_name).
+enum FaultQuantity : int {
+  kFqVelocity = 0,  // stage 1
+  kFqSupportWake,   // 2a, eq 108
+  kFqPairContact,   // 3: box-box contact (oriented-box model) or body contact (AABB model)
+  kFqGround,
+  kFqSdf,
+  kFqLoad,          // eqs 112, 115-117
+  kFqSleeperLoad,   // eq 124
+  kFqPreparation,   // 5
+  kFqWarmStart,
+  kFqImpulse,       // with the ground or an SDF volume
+  kFqImpulseBody,   // with another body
+  kFqSettling,      // 6
+  kFqCorrection,    // 7
+  kFqPosition,      // 8
+  kFqSleep,         // 9
+  kFqCount
+};
+inline const char* fault_quantity_name(int q, bool oriented) {
+  switch (q) {
+    case kFqVelocity: return "velocity (gravity, damping)";
+    case kFqSupportWake: return "support wake";
+    case kFqPairContact: return oriented ? "box-box contact" : "body contact";
+    case kFqGround: return "ground contact";
+    case kFqSdf: return "SDF contact";
+    case kFqLoad: return "load (eq 117)";
+    case kFqSleeperLoad: return "sleeper load (eq 124)";
+    case kFqPreparation: return "contact preparation";
+    case kFqWarmStart: return "warm start impulse";
+    case kFqImpulse: return "contact impulse";
+    case kFqImpulseBody: return "contact impulse (with another body)";
+    case kFqSettling: return "settling";
+    case kFqCorrection: return "position correction";
+    case kFqPosition: return "position/orientation";
+    case kFqSleep: return "sleep";
+    default: return "?";
+  }
+}
+LS_HD inline void or_flags(unsigned* target, unsigned v) {
+#if defined(__CUDA_ARCH__)
+  atomicOr(target, v);
+#else
+  *target |= v;
+#endif
+}
+// The element's faults so far are none (the status word may hold an earlier
+// kernel's, or, on a device, anything).
+template <class T>
+LS_HD inline void clear_faults() {
+  if constexpr (Num<T>::kExact) (void)q16_take_status();
+}
+// Notes the faults raised since the last clear or note against body and quantity.
+template <class T>
+LS_HD inline void note_faults(const FaultSink& sink, int body, int quantity) {
+  if constexpr (Num<T>::kExact) {
+    const std::uint32_t f = q16_take_status();
+    if (f != 0 && sink.code != nullptr) {
+      store_min(sink.code, (quantity << kFaultBodyBits) | body);
+      or_flags(sink.flags, f);
+    }
+  }
 }
 
 // ---------------------------------------------------------------------------
@@ -148,19 +242,18 @@ struct NeighbourLists {
 };
 
 // ---------------------------------------------------------------------------
-// Bit equality of two floats (NaN included): the fixed-point sweeps stop
-// when a sweep reproduces its input exactly.
-LS_HD inline bool same_bits(float x, float y) {
-#if defined(__CUDA_ARCH__)
-  return __float_as_uint(x) == __float_as_uint(y);
-#else
+// Bit equality of two values (NaN included): the fixed-point sweeps stop
+// when a sweep reproduces its input exactly. Both number types are 4 bytes.
+template <class T>
+LS_HD inline bool same_bits(const T& x, const T& y) {
+  static_assert(sizeof(T) == 4, "float or Q16");
   unsigned ux, uy;
   __builtin_memcpy(&ux, &x, sizeof ux);
   __builtin_memcpy(&uy, &y, sizeof uy);
   return ux == uy;
-#endif
 }
-LS_HD inline bool same_bits(const F4& a, const F4& b) {
+template <class T>
+LS_HD inline bool same_bits(const T4<T>& a, const T4<T>& b) {
   return same_bits(a.x, b.x) && same_bits(a.y, b.y) && same_bits(a.z, b.z) && same_bits(a.w, b.w);
 }
 

@@ -18,16 +18,20 @@ namespace lockstep::gpu {
 // One sweep: out[i] = (offset D, mass M) of body i's load from its load
 // children's previous values in[j] (eq 117; `in` zero before the first).
 // `changed` counts the bodies whose result differs from `in`.
+template <class T>
 struct LoadK {
+  using F4 = T4<T>;
   const int* list;
-  BodyArrays b;
+  BodyArrays<T> b;
   NeighbourLists lists;
   const int* load_parent;  // per body (ContactsK)
   const F4* in;
   F4* out;
   int* changed;
+  FaultSink faults{};
   LS_HD void operator()(int k) const {
     const int i = ro(list + k);
+    clear_faults<T>();
     const F4 pi4 = ro(b.pos + i);
     const int beg = lists.begin(k), end = lists.end(k);
     auto each_child = [&](auto&& f) {  // its load children, ascending index (the neighbour list's order)
@@ -38,9 +42,10 @@ struct LoadK {
         f(lj.w, xyz(ro(b.pos + j)), xyz(lj));
       }
     };
-    float mass;
-    Vec3<float> offset;
+    T mass;
+    Vec3<T> offset;
     sum_load(inv_mass_of(pi4), xyz(pi4), each_child, mass, offset);  // eq 117
+    note_faults<T>(faults, i, kFqLoad);
     const F4 result = f4(offset, mass);
     out[i] = result;
     if (changed != nullptr) {
@@ -54,10 +59,12 @@ struct LoadK {
 // (eq 112) and whose load's centre is not over its support points tips with
 // its load: not over its support (no settling; eq 112's chain reads it) and
 // it cannot rest (no sleep candidate).
+template <class T>
 struct LoadOverK {
+  using F4 = T4<T>;
   const int* list;
-  BodyArrays b;
-  SceneConsts sc;
+  BodyArrays<T> b;
+  SceneConsts<T> sc;
   NeighbourLists lists;
   const int* load_parent;
   const int* support_idx;
@@ -70,17 +77,20 @@ struct LoadOverK {
   LS_HD void operator()(int k) const {
     const int i = ro(list + k);
     if (ro(support_idx + i) == kNoSupport || ro(held + k) != 0) return;
+    clear_faults<T>();
     bool carries = false;
     for (int t = lists.begin(k), end = lists.end(k); t < end && !carries; ++t) {
       const int j = ro(lists.nbr + t);
       carries = is_awake(ro(b.flags + j)) && ro(load_parent + j) == i;
     }
     if (!carries) return;
-    Vec3<float> r[kMaxSupportPoints];
+    Vec3<T> r[kMaxSupportPoints];
     const int count = ro(n_arms + k);
     for (int a = 0; a < count && a < kMaxSupportPoints; ++a) r[a] = xyz(ro(arms + k * kMaxSupportPoints + a));
-    const Vec3<float> up{0.0f, Num<float>::from_int(1), 0.0f};
-    if (load_over_support(r, count, xyz(ro(load + i)), up, length(xyz(ro(b.ang + i))) < sc.P.sleep_angular)) return;
+    const Vec3<T> up{T{}, Num<T>::from_int(1), T{}};
+    const bool over = load_over_support(r, count, xyz(ro(load + i)), up, length(xyz(ro(b.ang + i))) < sc.P.sleep_angular);
+    note_faults<T>(sc.faults, i, kFqLoad);
+    if (over) return;
     over_support[i] = 0;
     can_rest[i] = 0;
   }
@@ -91,9 +101,10 @@ struct LoadOverK {
 // before the first); the fixed point is World<T>'s top-down pass. The last
 // call (`can_rest` set, `changed` null) also takes a body whose load
 // children's loads tip out of the sleep candidates.
+template <class T>
 struct LoadTipsK {
   const int* list;
-  BodyArrays b;
+  BodyArrays<T> b;
   NeighbourLists lists;
   const int* load_parent;
   const int* over_support;  // per body (eq 112, LoadOverK)

@@ -15,24 +15,24 @@ namespace lockstep::gpu {
 // y before the stage, lower index, higher index). Calls visit(t, j) for each
 // entry t (other body j) of active body i's list whose boxes touch (count >
 // 0), in that order; `yi`: i's y before the stage.
-template <class Visit>
-LS_HD void walk_pairs_in_order(int i, float yi, int beg, int end, const BodyArrays& b, const NeighbourLists& lists,
-                               const PairManifold* man, Visit&& visit) {
+template <class T, class Visit>
+LS_HD void walk_pairs_in_order(int i, T yi, int beg, int end, const BodyArrays<T>& b, const NeighbourLists& lists,
+                               const PairManifold<T>* man, Visit&& visit) {
   bool started = false;
-  float last_y = 0.0f;
+  T last_y = T{};
   int last_lo = 0, last_hi = 0;
-  auto before = [](float y1, int lo1, int hi1, float y2, int lo2, int hi2) {  // (height, index), then the other index
+  auto before = [](T y1, int lo1, int hi1, T y2, int lo2, int hi2) {  // (height, index), then the other index
     return settles_before(y1, lo1, y2, lo2) || (y1 == y2 && lo1 == lo2 && hi1 < hi2);
   };
   for (;;) {
     int best = -1;
-    float by = 0.0f;
+    T by = T{};
     int blo = 0, bhi = 0;
     for (int t = beg; t < end; ++t) {  // the next pair in the order
       if (ro(&man[t].count) == 0) continue;
       const int j = ro(lists.nbr + t);
-      const float yj = ro(b.pos + j).y;
-      const float y = i < j ? Num<float>::min(yi, yj) : Num<float>::min(yj, yi);
+      const T yj = ro(b.pos + j).y;
+      const T y = i < j ? Num<T>::min(yi, yj) : Num<T>::min(yj, yi);
       const int lo = i < j ? i : j, hi = i < j ? j : i;
       if (started && !before(last_y, last_lo, last_hi, y, lo, hi)) continue;
       if (best < 0 || before(y, lo, hi, by, blo, bhi)) { best = t; by = y; blo = lo; bhi = hi; }
@@ -55,12 +55,14 @@ LS_HD void walk_pairs_in_order(int i, float yi, int beg, int end, const BodyArra
 // side's position before the pair from the previous sweep (its entry of the
 // pair in `before_in`), and records its own position before each pair in
 // `before_out`.
+template <class T>
 struct PairCorrectK {
+  using F4 = T4<T>;
   const int* list;
-  BodyArrays b;
-  SceneConsts sc;
+  BodyArrays<T> b;
+  SceneConsts<T> sc;
   NeighbourLists lists;
-  const PairManifold* man;
+  const PairManifold<T>* man;
   const int* slot_of;
   const F4* p_world;    // per slot
   const F4* before_in;  // per entry
@@ -69,34 +71,36 @@ struct PairCorrectK {
   int* changed;         // entries whose result differs from `before_in`
   LS_HD void operator()(int k) const {
     const int i = ro(list + k);
+    clear_faults<T>();
     const F4 pi4 = ro(b.pos + i);
-    const Vec3<float> p0 = xyz(pi4);
-    Vec3<float> p = xyz(p_world[k]);
+    const Vec3<T> p0 = xyz(pi4);
+    Vec3<T> p = xyz(p_world[k]);
     int differ = 0;
     walk_pairs_in_order(i, p0.y, lists.begin(k), lists.end(k), b, lists, man, [&](int t, int j) {
-      const F4 mine = f4(p, 0.0f);
+      const F4 mine = f4(p, T{});
       before_out[t] = mine;
       if (!same_bits(mine, ro(before_in + t))) ++differ;
-      const PairManifold& rec = man[t];
+      const PairManifold<T>& rec = man[t];
       if (bounces(ro(&rec.st[ro(&rec.deepest)].b))) return;  // bouncing (eq 76): its rebound separates it
       const F4 pj4 = ro(b.pos + j);
       const bool j_awake = is_awake(ro(b.flags + j));
       const bool lower = i < j;
-      const float inv_j = j_awake ? inv_mass_of(pj4) : 0.0f;
-      const float inv_a = lower ? inv_mass_of(pi4) : inv_j, inv_b = lower ? inv_j : inv_mass_of(pi4);
-      if (inv_a == 0.0f && inv_b == 0.0f) return;
-      const Vec3<float> pj0 = xyz(pj4);
-      Vec3<float> q = pj0;  // j's position before this pair
+      const T inv_j = j_awake ? inv_mass_of(pj4) : T{};
+      const T inv_a = lower ? inv_mass_of(pi4) : inv_j, inv_b = lower ? inv_j : inv_mass_of(pi4);
+      if (inv_a == T{} && inv_b == T{}) return;
+      const Vec3<T> pj0 = xyz(pj4);
+      Vec3<T> q = pj0;  // j's position before this pair
       if (j_awake) {
         const int m = lists.find(ro(slot_of + j), i);
         if (m >= 0) q = xyz(ro(before_in + m));
       }
-      Vec3<float> pa = lower ? p : q, pb = lower ? q : p;
-      const Vec3<float> n = xyz(ro(&rec.n));
+      Vec3<T> pa = lower ? p : q, pb = lower ? q : p;
+      const Vec3<T> n = xyz(ro(&rec.n));
       manifold_correction(pa, lower ? p0 : pj0, pb, lower ? pj0 : p0, n, ro(&rec.depth), inv_a, inv_b,
                           is_support_pair(n, sc.P.support_normal_min), sc.P.slop, sc.P.baumgarte);  // eq 110
       p = lower ? pa : pb;
     });
+    note_faults<T>(sc.faults, i, kFqCorrection);
     p_out[k] = f4(p, inv_mass_of(pi4));
     if (changed != nullptr) add_to(changed, differ);
   }
@@ -112,12 +116,14 @@ struct PairCorrectK {
 // PairCorrectK's: each active body walks its pairs from its position after
 // eq 110 and no turn, taking the other side's (position, turn) before the
 // pair from the previous sweep, and records its own before each pair.
+template <class T>
 struct PairTurnK {
+  using F4 = T4<T>;
   const int* list;
-  BodyArrays b;
-  SceneConsts sc;
+  BodyArrays<T> b;
+  SceneConsts<T> sc;
   NeighbourLists lists;
-  const PairManifold* man;
+  const PairManifold<T>* man;
   const int* slot_of;
   const F4* p_pairs;    // per slot: the position after eq 110
   const F4* before_in;  // per entry: the position before the pair
@@ -129,47 +135,49 @@ struct PairTurnK {
   int* changed;         // entries whose result differs from the inputs
   LS_HD void operator()(int k) const {
     const int i = ro(list + k);
+    clear_faults<T>();
     const F4 pi4 = ro(b.pos + i);
-    const Vec3<float> p0 = xyz(pi4);
-    const Mat3<float> Ri = rotation_matrix(quat(ro(b.rot + i)));
-    const Vec3<float> Ii = xyz(ro(b.inert + i));
-    Vec3<float> p = xyz(p_pairs[k]), w{};
+    const Vec3<T> p0 = xyz(pi4);
+    const Mat3<T> Ri = rotation_matrix(quat(ro(b.rot + i)));
+    const Vec3<T> Ii = xyz(ro(b.inert + i));
+    Vec3<T> p = xyz(p_pairs[k]), w{};
     int differ = 0;
     walk_pairs_in_order(i, p0.y, lists.begin(k), lists.end(k), b, lists, man, [&](int t, int j) {
-      const F4 mine = f4(p, 0.0f), mine_w = f4(w, 0.0f);
+      const F4 mine = f4(p, T{}), mine_w = f4(w, T{});
       before_out[t] = mine;
       turn_out[t] = mine_w;
       if (!same_bits(mine, ro(before_in + t)) || !same_bits(mine_w, ro(turn_in + t))) ++differ;
       const F4 pj4 = ro(b.pos + j);
       const bool j_awake = is_awake(ro(b.flags + j));
-      const Vec3<float> pj0 = xyz(pj4);
-      Vec3<float> q = pj0, wj{};  // j's position and turn before this pair
+      const Vec3<T> pj0 = xyz(pj4);
+      Vec3<T> q = pj0, wj{};  // j's position and turn before this pair
       if (j_awake) {
         const int m = lists.find(ro(slot_of + j), i);
         if (m >= 0) { q = xyz(ro(before_in + m)); wj = xyz(ro(turn_in + m)); }
       }
-      const BodyView<float> me{p - p0, w, inv_mass_of(pi4), Ri, Ii};
-      const BodyView<float> other{q - pj0, wj, j_awake ? inv_mass_of(pj4) : 0.0f, rotation_matrix(quat(ro(b.rot + j))),
-                                  j_awake ? xyz(ro(b.inert + j)) : Vec3<float>{}};
+      const BodyView<T> me{p - p0, w, inv_mass_of(pi4), Ri, Ii};
+      const BodyView<T> other{q - pj0, wj, j_awake ? inv_mass_of(pj4) : T{}, rotation_matrix(quat(ro(b.rot + j))),
+                                  j_awake ? xyz(ro(b.inert + j)) : Vec3<T>{}};
       const bool lower = i < j;
-      BodyView<float> A = lower ? me : other, B = lower ? other : me;
-      if (A.inv_mass == 0.0f && B.inv_mass == 0.0f) return;
-      const PairManifold& rec = man[t];
-      const Vec3<float> n = xyz(ro(&rec.n));
+      BodyView<T> A = lower ? me : other, B = lower ? other : me;
+      if (A.inv_mass == T{} && B.inv_mass == T{}) return;
+      const PairManifold<T>& rec = man[t];
+      const Vec3<T> n = xyz(ro(&rec.n));
       hold_lower_side(A, B, n, sc.P.support_normal_min);  // eq 111: only the upper side moves, if it can
-      const Vec3<float> pa0 = lower ? p0 : pj0, pb0 = lower ? pj0 : p0;
+      const Vec3<T> pa0 = lower ? p0 : pj0, pb0 = lower ? pj0 : p0;
       const int count = ro(&rec.count);
       for (int c = 0; c < count; ++c) {
         if (bounces(ro(&rec.st[c].b))) continue;  // a bouncing point separates by its rebound (eq 89)
         const F4 pt = ro(&rec.pt[c]);
         correct_manifold_point(A, xyz(pt) - pa0, B, xyz(pt) - pb0, n, pt.w, sc.P.slop, sc.P.baumgarte);  // eq 111
       }
-      const BodyView<float>& done = lower ? A : B;
+      const BodyView<T>& done = lower ? A : B;
       p = p0 + done.v;
       w = done.w;
     });
+    note_faults<T>(sc.faults, i, kFqCorrection);
     p_out[k] = f4(p, inv_mass_of(pi4));
-    turn_slot[k] = f4(w, 0.0f);
+    turn_slot[k] = f4(w, T{});
     if (changed != nullptr) add_to(changed, differ);
   }
 };
@@ -178,12 +186,14 @@ struct PairTurnK {
 // turn, 1/2), as World<T> applies it at the end of stage 7), then eqs 2,
 // 7-10 from the corrected position into the per-slot buffers (CommitSleepK
 // commits them); counts the pair corrections (once per pair).
+template <class T>
 struct IntegrateK {
+  using F4 = T4<T>;
   const int* list;
-  BodyArrays b;
-  SceneConsts sc;
+  BodyArrays<T> b;
+  SceneConsts<T> sc;
   NeighbourLists lists;
-  const PairManifold* man;  // null: no pairs
+  const PairManifold<T>* man;  // null: no pairs
   const F4* p_in;           // per slot
   const F4* turn;           // per slot: eq 111's turn (null: no pairs)
   F4* p_out;
@@ -191,24 +201,26 @@ struct IntegrateK {
   Counter* ctr;
   LS_HD void operator()(int k) const {
     const int i = ro(list + k);
+    clear_faults<T>();
     const F4 pi4 = ro(b.pos + i);
-    Vec3<float> p = xyz(p_in[k]);
-    Quat<float> q = quat(ro(b.rot + i));
+    Vec3<T> p = xyz(p_in[k]);
+    Quat<T> q = quat(ro(b.rot + i));
     if (turn != nullptr) {
-      const Vec3<float> tw = xyz(turn[k]);
-      if (!(tw == Vec3<float>{})) q = integrate_orientation(q, tw, 0.5f);  // eqs 7-10, eq 111's turn
+      const Vec3<T> tw = xyz(turn[k]);
+      if (!(tw == Vec3<T>{})) q = integrate_orientation(q, tw, Num<T>::from_double(0.5));  // eqs 7-10, eq 111's turn
     }
     integrate_pose(p, q, xyz(b.vel[i]), xyz(b.ang[i]), sc.P);  // eqs 2, 7-10
     unsigned corrections = 0;
     if (man != nullptr) {
       for (int t = lists.begin(k); t < lists.end(k); ++t) {
-        const PairManifold& rec = man[t];
+        const PairManifold<T>& rec = man[t];
         if (ro(&rec.count) == 0 || bounces(ro(&rec.st[ro(&rec.deepest)].b))) continue;
         const int j = ro(lists.nbr + t);
         const bool j_awake = is_awake(ro(b.flags + j));
-        if ((i < j || !j_awake) && (inv_mass_of(pi4) != 0.0f || (j_awake && inv_mass_of(ro(b.pos + j)) != 0.0f))) ++corrections;
+        if ((i < j || !j_awake) && (inv_mass_of(pi4) != T{} || (j_awake && inv_mass_of(ro(b.pos + j)) != T{}))) ++corrections;
       }
     }
+    note_faults<T>(sc.faults, i, kFqPosition);
     p_out[k] = f4(p, inv_mass_of(pi4));
     q_out[k] = f4(q);
     add_counter(&ctr[kCCorrections], corrections);

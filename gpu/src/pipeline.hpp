@@ -20,13 +20,16 @@
 
 namespace lockstep::gpu {
 
-template <class B>
-class Pipeline final : public PipelineBase {
-  template <class T>
-  using Buf = typename B::template Buf<T>;
+template <class B, class T>
+class Pipeline final : public PipelineBase<T> {
+  template <class U>
+  using Buf = typename B::template Buf<U>;
+  using F4 = T4<T>;
+  using Base = PipelineBase<T>;
+  using Base::n_, Base::frame_, Base::n_awake_, Base::on_device_, Base::description_, Base::counters_, Base::times_;
 
  public:
-  Pipeline(const InitialState& s, const GpuOptions& options, std::string description, bool on_device)
+  Pipeline(const InitialState<T>& s, const GpuOptions& options, std::string description, bool on_device)
       : be_(options.stage_timing), opt_(options) {
     n_ = s.n;
     on_device_ = on_device;
@@ -48,7 +51,7 @@ class Pipeline final : public PipelineBase {
     n_static_ = s.n_static;
     n_static_small_ = s.n_static_small;
     up(sdf_values_, s.sdf_values);
-    std::vector<SdfGrid<float>> grids = s.sdf_grids;
+    std::vector<SdfGrid<T>> grids = s.sdf_grids;
     for (std::size_t k = 0; k < grids.size(); ++k) grids[k].values = sdf_values_.data() + s.sdf_offsets[k];
     up(sdf_grids_, grids);
     up(sdf_material_, s.sdf_material);
@@ -80,7 +83,7 @@ class Pipeline final : public PipelineBase {
     be_.fill_zero(ctr_.data(), kCounterCount);
     scal_.resize(4);
     sc_.P = s.P;
-    sc_.half_tol = s.P.contact_tolerance * Num<float>::from_double(0.5);
+    sc_.half_tol = s.P.contact_tolerance * Num<T>::from_double(0.5);
     sc_.gravity = s.fx.gravity;
     sc_.damping = s.fx.damping;
     sc_.friction = s.fx.friction;
@@ -95,11 +98,16 @@ class Pipeline final : public PipelineBase {
     sc_.sdf_material = n_sdf_ > 0 ? sdf_material_.data() : nullptr;
     sc_.large = large_.data();
     sc_.n_large = n_large_;
-    sc_.relaxation = options.relaxation;
+    sc_.relaxation = Num<T>::from_double(options.relaxation);  // float -> double -> float: exact
     sc_.oriented = s.oriented;
+    if constexpr (Num<T>::kExact) {  // Q16 faults (kernel_support.hpp), reset each frame
+      fault_code_.resize(1);
+      fault_flags_.resize(1);
+      sc_.faults = FaultSink{fault_code_.data(), fault_flags_.data()};
+    }
     oriented_ = s.oriented;
     if (oriented_) {  // eqs 97, 107: every body's growth starts at half the tolerance; eq 108's records
-      up(grow_, std::vector<float>(n, sc_.half_tol));
+      up(grow_, std::vector<T>(n, sc_.half_tol));
       sc_.grow = grow_.data();  // eqs 97, 107: the ground tolerance grows with the reach
       for (auto* l : {&ready_, &sleep_sw_[0], &sleep_sw_[1], &wake_sw_[0], &wake_sw_[1], &rest_count_}) l->resize(n + 1);
       be_.fill_int(rest_count_.data(), 0, n + 1);
@@ -128,7 +136,7 @@ class Pipeline final : public PipelineBase {
     be_.sync();
   }
 
-  void download(HostState& out, bool full = false) override {
+  void download(HostState<T>& out, bool full = false) override {
     const auto n = static_cast<std::size_t>(n_);
     out.pos.resize(n); out.rot.resize(n); out.vel.resize(n); out.ang.resize(n);
     out.flags.resize(n); out.sleep_frame.resize(n);
@@ -152,8 +160,8 @@ class Pipeline final : public PipelineBase {
   }
 
   void step() override;
-  void save(GpuState& out) override;
-  void load(const GpuState& in) override;
+  void save(GpuState<T>& out) override;
+  void load(const GpuState<T>& in) override;
   int imm_stride() const override { return sc_.imm_stride(); }
 
  private:
@@ -161,15 +169,15 @@ class Pipeline final : public PipelineBase {
     Buf<unsigned> keys[2];
     Buf<int> vals[2];
     Buf<CellRange> range;
-    Buf<GridEntry> ent;
+    Buf<GridEntry<T>> ent;
     Buf<CellEntry> ent_c;
-    Buf<Bounds> bounds, reduced;
-    Buf<GridParams> gp;
+    Buf<Bounds<T>> bounds, reduced;
+    Buf<GridParams<T>> gp;
     bool present = false;
     bool dense = false;
     unsigned cells = 0;
-    GridView view() {
-      GridView v;
+    GridView<T> view() {
+      GridView<T> v;
       if (!present) return v;
       v.range = range.data(); v.ent = ent.data(); v.ent_c = ent_c.data();
       v.gp = gp.data(); v.present = true;
@@ -189,17 +197,17 @@ class Pipeline final : public PipelineBase {
     g.ent.resize(un); g.ent_c.resize(un);
     g.reduced.resize(1); g.gp.resize(1);
     be_.reduce_bounds(g.bounds.data(), n, g.reduced.data());
-    be_.for_n(1, GridParamsK{g.reduced.data(), sc_.P.contact_tolerance, dense_limit, hash_table, g.gp.data()});
-    GridParams gp;
+    be_.for_n(1, GridParamsK<T>{g.reduced.data(), sc_.P.contact_tolerance, dense_limit, hash_table, g.gp.data()});
+    GridParams<T> gp;
     be_.download(&gp, g.gp.data(), 1);
     be_.sync();
     int bits = 1;
     while (bits < 32 && (1ull << bits) <= gp.table) ++bits;  // the keys and the sentinel `table`
     g.range.resize(gp.table);
-    be_.for_n(n, GridKeysK{list, body_, large_flag_.data(), g.gp.data(), g.keys[0].data(), g.vals[0].data()});
+    be_.for_n(n, GridKeysK<T>{list, body_, large_flag_.data(), g.gp.data(), g.keys[0].data(), g.vals[0].data()});
     const int r = be_.sort_pairs(g.keys[0].data(), g.vals[0].data(), g.keys[1].data(), g.vals[1].data(), n, bits);
     be_.fill_minus_one(g.range.data(), gp.table);  // every cell empty
-    be_.for_n(n, CellTableK{g.keys[r].data(), g.vals[r].data(), n, body_, g.gp.data(), g.range.data(),
+    be_.for_n(n, CellTableK<T>{g.keys[r].data(), g.vals[r].data(), n, body_, g.gp.data(), g.range.data(),
                             g.ent.data(), g.ent_c.data()});
     g.present = true;
     g.dense = gp.dense != 0;
@@ -209,9 +217,9 @@ class Pipeline final : public PipelineBase {
   // The coloured solver's per-entry state, set up by ContactsK (init_edge):
   // no arrays (mate null) without body-body contacts or with the Jacobi
   // solver.
-  EdgeArrays prepare_edges(int n_active, const NeighbourLists& nl, int par, bool coloured) {
+  EdgeArrays<T> prepare_edges(int n_active, const NeighbourLists& nl, int par, bool coloured) {
     coloured_ = coloured;
-    EdgeArrays e;
+    EdgeArrays<T> e;
     if (!coloured) return e;
     const auto entries = static_cast<std::size_t>(n_active) * static_cast<std::size_t>(nl.stride) + 1;
     mate_.resize(entries);
@@ -283,13 +291,13 @@ class Pipeline final : public PipelineBase {
   B be_;
   GpuOptions opt_;
   Effects fx_;
-  SceneConsts sc_;
-  BodyArrays body_;
+  SceneConsts<T> sc_;
+  BodyArrays<T> body_;
   Buf<F4> pos_, rot_, aabb_, half_, inert_, vel_[3], ang_[3];
   Buf<std::uint8_t> flags_, large_flag_;
   Buf<int> sleep_counter_, sleep_frame_, large_;
-  Buf<SdfGrid<float>> sdf_grids_;
-  Buf<float> sdf_values_;
+  Buf<SdfGrid<T>> sdf_grids_;
+  Buf<T> sdf_values_;
   Buf<F4> sdf_material_;
   int n_sdf_ = 0, n_large_ = 0, n_static_ = 0, n_static_small_ = 0;
   Buf<int> list_[2];  // list_[cur_]: awake bodies, then (during a frame) woken ones
@@ -298,7 +306,7 @@ class Pipeline final : public PipelineBase {
   // Double-buffered by frame parity: this frame's contacts and last frame's (warm start, eq 96).
   Buf<int> nbr_[2], count_[2], slot_of_[2], stamp_[2];
   int stride_[2] = {16, 16};  // neighbour-list block per slot
-  Buf<ContactRecord> pair_[2], imm_[2];
+  Buf<ContactRecord<T>> pair_[2], imm_[2];
   Buf<F4> conv_imm_;   // eq 113, with the skip on: per slot, its ground and SDF manifolds' last visits (this frame's solve only)
   Buf<F4> conv_pair_;  // eq 113, with the skip on: per neighbour-list entry, its pair's last visit (this frame's solve only)
   Buf<int> ground_mask_[2];  // per slot: the ground corners in contact
@@ -309,7 +317,7 @@ class Pipeline final : public PipelineBase {
   Buf<int> support_idx_;
   Buf<int> over_support_;  // eq 112, per body (written by ContactsK for the active ones)
   Buf<int> leaning_;       // eq 115, per body (written by ContactsK with over_support_)
-  Buf<float> settle_limit_;  // eq 116, per body (ContactsK): eq 77 damps a relative speed up to this
+  Buf<T> settle_limit_;  // eq 116, per body (ContactsK): eq 77 damps a relative speed up to this
   Buf<int> can_rest_;      // eqs 116-117, per body (ContactsK, LoadOverK): statics lets it rest
   Buf<int> load_parent_;   // eq 117, per body (ContactsK)
   Buf<int> load_tips_[2];  // eq 117's tips: its sweeps, per body
@@ -322,6 +330,8 @@ class Pipeline final : public PipelineBase {
   Buf<int> keep_, keep_scan_;
   Grid awake_grid_, frozen_grid_;
   Buf<Counter> ctr_;
+  Buf<int> fault_code_;         // Q16: the frame's lowest fault (FaultSink::code)
+  Buf<unsigned> fault_flags_;   // Q16: the frame's fault flags
   // The coloured solver's edges (colouring.hpp): per list entry its mate,
   // key and colour; the pending lists of the colouring rounds; the edges
   // (owner entries) by colour; where each round's edges end; the counters.
@@ -337,8 +347,8 @@ class Pipeline final : public PipelineBase {
   // and eq 111's turns; per slot the readiness and the sweeps of eq 109; per
   // body the sweeps of eq 108.
   bool oriented_ = false;
-  Buf<float> grow_;
-  Buf<PairManifold> man_[2];
+  Buf<T> grow_;
+  Buf<PairManifold<T>> man_[2];
   Buf<F4> before_[2], turn_[2], p_world_, p_pairs_, turn_slot_;
   Buf<int> ready_, sleep_sw_[2], wake_sw_[2];
   Buf<int> rest_count_, rest_body_;
@@ -351,9 +361,9 @@ class Pipeline final : public PipelineBase {
   Buf<unsigned> sl_key_, sl_keys_[2];
   Buf<F4> sl_arms_, sl_load_[2];
   int sl_n_heads_ = 0;
-  SleepSupportArrays sleep_records() { return SleepSupportArrays{sl_parent_.data(), sl_count_.data(), sl_arms_.data()}; }
-  RestArrays rests() {
-    return RestArrays{rest_count_.data(), rest_body_.data(), rest_local_.data(), rest_point_.data(),
+  SleepSupportArrays<T> sleep_records() { return SleepSupportArrays<T>{sl_parent_.data(), sl_count_.data(), sl_arms_.data()}; }
+  RestArrays<T> rests() {
+    return RestArrays<T>{rest_count_.data(), rest_body_.data(), rest_local_.data(), rest_point_.data(),
                       rest_last_.data()};
   }
   // Runs sweep(in, out, changed) until a sweep changes nothing (batches of
@@ -380,7 +390,7 @@ class Pipeline final : public PipelineBase {
     sl_n_heads_ = 0;
     if (!fx_.sleep || n_ - n_static_ - n_active <= 0) return;
     be_.fill_int(scal_.data() + 3, 0, 1);
-    be_.for_n(n_, SleeperChildK{body_, load_parent_.data(), sleep_records(), n_, sl_flag_.data(), sl_key_.data(),
+    be_.for_n(n_, SleeperChildK<T>{body_, load_parent_.data(), sleep_records(), n_, sl_flag_.data(), sl_key_.data(),
                                 scal_.data() + 3});
     if (read_int(scal_.data() + 3) == 0) return;
     be_.exclusive_scan(sl_flag_.data(), sl_scan_.data(), n_);
@@ -397,10 +407,11 @@ class Pipeline final : public PipelineBase {
     be_.for_n(m, SleeperHeadsK{sl_keys_[s].data(), sl_head_.data(), sl_head_scan_.data(), sl_heads_.data()});
     be_.fill_zero(sl_load_[0].data(), static_cast<std::size_t>(n_) + 1);
     const int r = sweep_until_fixed(heads + 2, [&](int in, int out, int* changed) {
-      be_.for_n(heads, SleeperLoadK{sl_heads_.data(), body_, sl_keys_[s].data(), sl_child_[s].data(), sl_begin_.data(),
-                                    sl_end_.data(), awake_loads, sl_load_[in].data(), sl_load_[out].data(), changed});
+      be_.for_n(heads, SleeperLoadK<T>{sl_heads_.data(), body_, sl_keys_[s].data(), sl_child_[s].data(), sl_begin_.data(),
+                                    sl_end_.data(), awake_loads, sl_load_[in].data(), sl_load_[out].data(), changed,
+                                    sc_.faults});
     });
-    be_.for_n(heads, SleeperTestK{sl_heads_.data(), sleep_records(), sl_load_[r].data(), sl_wake_.data()});
+    be_.for_n(heads, SleeperTestK<T>{sl_heads_.data(), sleep_records(), sl_load_[r].data(), sl_wake_.data(), sc_.faults});
     sl_n_heads_ = heads;
   }
   // eq 124, end of stage 9: the sleepers found beyond their support wake and
@@ -408,7 +419,7 @@ class Pipeline final : public PipelineBase {
   int wake_loaded(int n_awake) {
     if (sl_n_heads_ == 0) return 0;
     be_.fill_int(scal_.data(), 0, 1);
-    be_.for_n(sl_n_heads_, SleeperWakeK{sl_heads_.data(), sl_wake_.data(), body_, rests(), woken_.data(), scal_.data()});
+    be_.for_n(sl_n_heads_, SleeperWakeK<T>{sl_heads_.data(), sl_wake_.data(), body_, rests(), woken_.data(), scal_.data()});
     const int n_woken = read_int(scal_.data());
     sl_n_heads_ = 0;
     if (n_woken == 0) return 0;
@@ -423,10 +434,14 @@ class Pipeline final : public PipelineBase {
   int colours_ = 0;        // the coloured solver's colours (= colouring rounds) this frame
 };
 
-template <class B>
-void Pipeline<B>::step() {
+template <class B, class T>
+void Pipeline<B, T>::step() {
   ++frame_;
   be_.begin_frame();
+  if constexpr (Num<T>::kExact) {
+    be_.for_n(1, SetIntK{fault_code_.data(), 0x7fffffff});
+    be_.fill_zero(fault_flags_.data(), 1);
+  }
   int n_awake = n_awake_;
   int* active = list_[cur_].data();
   const bool contacts = fx_.contacts && n_ >= 2;
@@ -440,11 +455,11 @@ void Pipeline<B>::step() {
   if (oriented_ && fx_.sleep && contacts && n_awake > 0 && n_ - n_static_ - n_awake > 0) {
     be_.fill_int(wake_sw_[0].data(), 0, static_cast<std::size_t>(n_));
     const int r = sweep_until_fixed(n_ + 2, [&](int in, int out, int* changed) {
-      be_.for_n(n_, SupportWakeK{body_, sc_, rests(), wake_sw_[in].data(), wake_sw_[out].data(), changed});
+      be_.for_n(n_, SupportWakeK<T>{body_, sc_, rests(), wake_sw_[in].data(), wake_sw_[out].data(), changed});
     });
     be_.fill_int(scal_.data(), 0, 1);
-    be_.for_n(n_, SupportWakeApplyK{body_, wake_sw_[r].data(), woken_.data(), scal_.data()});
-    be_.for_n(n_, RestLastK{body_, rests()});  // eq 108's speed: where the points are now
+    be_.for_n(n_, SupportWakeApplyK<T>{body_, wake_sw_[r].data(), woken_.data(), scal_.data()});
+    be_.for_n(n_, RestLastK<T>{body_, rests(), sc_.faults});  // eq 108's speed: where the points are now
     const int n_woken = read_int(scal_.data());
     if (n_woken > 0) {
       be_.sort_ints(woken_.data(), woken_tmp_.data(), n_woken);
@@ -456,7 +471,7 @@ void Pipeline<B>::step() {
   }
   if (n_awake > 0 && (fx_.gravity || fx_.damping || contacts || oriented_)) {
     awake_grid_.bounds.resize(static_cast<std::size_t>(n_awake));
-    IntegrateVelocityK iv{active, body_, sc_, contacts ? awake_grid_.bounds.data() : nullptr};
+    IntegrateVelocityK<T> iv{active, body_, sc_, contacts ? awake_grid_.bounds.data() : nullptr};
     iv.grow = oriented_ ? grow_.data() : nullptr;  // eqs 97, 107: also the ground tolerance
     iv.integrate_end = integrated;
     be_.for_n(n_awake, iv);
@@ -478,7 +493,7 @@ void Pipeline<B>::step() {
     frozen_grid_.present = false;
   } else if (frozen_dirty_ && n_awake > 0) {  // with no awake body nothing looks it up
     frozen_grid_.bounds.resize(static_cast<std::size_t>(n_));
-    be_.for_n(n_, FrozenBoundsK{body_, large_flag_.data(), frozen_grid_.bounds.data()});
+    be_.for_n(n_, FrozenBoundsK<T>{body_, large_flag_.data(), frozen_grid_.bounds.data()});
     build_grid(frozen_grid_, nullptr, n_, n_frozen);
     counters_.broadphase_bodies += static_cast<std::uint64_t>(n_frozen);
     frozen_dirty_ = false;
@@ -508,17 +523,17 @@ void Pipeline<B>::step() {
     work = WorkOrder{work_key_[0].data(), work_slot_[0].data()};
   }
   const ContactIndex index{slot_of_[par].data(), stamp_[par].data()};
-  float* grow = oriented_ ? grow_.data() : nullptr;
+  T* grow = oriented_ ? grow_.data() : nullptr;
   auto gather = [&](bool first, bool awake_part, bool woken_part) {
     const NeighbourLists l = lists();
     if (awake_part) {
-      GatherK g{active, 0, body_, sc_, awake_grid_.view(), frozen_grid_.view(), false, first, l,
+      GatherK<T> g{active, 0, body_, sc_, awake_grid_.view(), frozen_grid_.view(), false, first, l,
                 scal_.data() + 2, wake_flag_.data(), woken_.data(), scal_.data(), work, index, frame_, ctr_.data()};
       g.grow = grow;
       be_.for_n(n_awake, g);
     }
     if (woken_part) {
-      GatherK g{active + n_awake, n_awake, body_, sc_, awake_grid_.view(), frozen_grid_.view(), true, first, l,
+      GatherK<T> g{active + n_awake, n_awake, body_, sc_, awake_grid_.view(), frozen_grid_.view(), true, first, l,
                 scal_.data() + 2, wake_flag_.data(), woken_.data(), scal_.data(), work, index, frame_, ctr_.data()};
       g.grow = grow;
       be_.for_n(n_active - n_awake, g);
@@ -541,7 +556,7 @@ void Pipeline<B>::step() {
     if (!fits(found[2])) gather(false, true, false);
     if (n_woken > 0) {
       be_.sort_ints(woken_.data(), woken_tmp_.data(), n_woken);
-      be_.for_n(n_woken, WakeApplyK{woken_.data(), body_, wake_flag_.data(), active, n_awake, grow, sc_.half_tol});
+      be_.for_n(n_woken, WakeApplyK<T>{woken_.data(), body_, wake_flag_.data(), active, n_awake, grow, sc_.half_tol});
       n_active = n_awake + n_woken;
       gather(true, false, true);
       if (!fits(read_int(scal_.data() + 2))) gather(false, true, true);
@@ -562,22 +577,22 @@ void Pipeline<B>::step() {
   if (oriented_) man_[par].resize(entries);
   const auto imm = static_cast<std::size_t>(n_active) * static_cast<std::size_t>(sc_.imm_stride()) + 1;
   imm_[par].resize(imm);
-  const bool skip = oriented_ && sc_.P.converged_speed > 0.0f;  // eq 113's records exist only with the skip on
+  const bool skip = oriented_ && sc_.P.converged_speed > T{};  // eq 113's records exist only with the skip on
   if (skip) conv_imm_.resize(static_cast<std::size_t>(n_active) * static_cast<std::size_t>(sc_.ground_slots() / 8 + sc_.n_sdf) * 4 + 1);
   if (skip) conv_pair_.resize(entries * 4);
   ground_mask_[par].resize(static_cast<std::size_t>(n_active) + 1);
   immovable_.resize(static_cast<std::size_t>(n_active) + 1);
-  PairManifold* man = oriented_ ? man_[par].data() : nullptr;
-  const SolverData d{active, body_, sc_, nl, dir_count_.data(), sdf_c0_.data(), sdf_c1_.data(),
+  PairManifold<T>* man = oriented_ ? man_[par].data() : nullptr;
+  const SolverData<T> d{active, body_, sc_, nl, dir_count_.data(), sdf_c0_.data(), sdf_c1_.data(),
                      imm_[par].data(), pair_[par].data(), man, skip ? conv_imm_.data() : nullptr,
                      skip ? conv_pair_.data() : nullptr};
   if (n_active > 0) {
-    const PreviousContacts prev{frame_ - 1, slot_of_[pp].data(), stamp_[pp].data(),
+    const PreviousContacts<T> prev{frame_ - 1, slot_of_[pp].data(), stamp_[pp].data(),
                                 NeighbourLists{nbr_[pp].data(), count_[pp].data(), stride_[pp]}, imm_[pp].data(),
                                 ground_mask_[pp].data(), pair_[pp].data(), oriented_ ? man_[pp].data() : nullptr};
-    const EdgeArrays edges = prepare_edges(n_active, nl, par, contacts && n_awake > 0 &&
+    const EdgeArrays<T> edges = prepare_edges(n_active, nl, par, contacts && n_awake > 0 &&
                                                                    opt_.pair_solver == GpuOptions::PairSolver::kColoured);
-    ContactsK ck{d, prev, edges, sdf_c0_.data(), sdf_c1_.data(), support_idx_.data(), support_n_.data(),
+    ContactsK<T> ck{d, prev, edges, sdf_c0_.data(), sdf_c1_.data(), support_idx_.data(), support_n_.data(),
                  dir_count_.data(), ground_mask_[par].data(), immovable_.data(), vel_[1].data(),
                  ang_[1].data(), ctr_.data()};
     ck.grow = grow;
@@ -602,26 +617,27 @@ void Pipeline<B>::step() {
     for (auto& buf : load_) buf.resize(static_cast<std::size_t>(n_) + 1);
     be_.fill_zero(load_[0].data(), static_cast<std::size_t>(n_) + 1);
     const int r = sweep_until_fixed(n_active + 2, [&](int in, int out, int* changed) {
-      be_.for_n(n_active, LoadK{active, body_, nl, load_parent_.data(), load_[in].data(), load_[out].data(), changed});
+      be_.for_n(n_active, LoadK<T>{active, body_, nl, load_parent_.data(), load_[in].data(), load_[out].data(), changed,
+                                   sc_.faults});
     });
-    be_.for_n(n_active, LoadOverK{active, body_, sc_, nl, load_parent_.data(), support_idx_.data(), load_[r].data(),
+    be_.for_n(n_active, LoadOverK<T>{active, body_, sc_, nl, load_parent_.data(), support_idx_.data(), load_[r].data(),
                                   arms_.data(), n_arms_.data(), held_.data(), over_support_.data(), can_rest_.data()});
     for (auto& buf : load_tips_) buf.resize(static_cast<std::size_t>(n_) + 1);
     be_.fill_int(load_tips_[0].data(), 0, static_cast<std::size_t>(n_) + 1);
     const int t = sweep_until_fixed(n_active + 2, [&](int in, int out, int* changed) {
-      be_.for_n(n_active, LoadTipsK{active, body_, nl, load_parent_.data(), over_support_.data(),
+      be_.for_n(n_active, LoadTipsK<T>{active, body_, nl, load_parent_.data(), over_support_.data(),
                                     support_idx_.data(), load_tips_[in].data(), load_tips_[out].data(), changed, nullptr});
     });
-    be_.for_n(n_active, LoadTipsK{active, body_, nl, load_parent_.data(), over_support_.data(), support_idx_.data(), load_tips_[t].data(),
+    be_.for_n(n_active, LoadTipsK<T>{active, body_, nl, load_parent_.data(), over_support_.data(), support_idx_.data(), load_tips_[t].data(),
                                   load_tips_[1 - t].data(), nullptr, can_rest_.data()});
     sleeper_loads(n_active, load_[r].data());  // eq 124
   }
   // eq 112's chain: a body riding on a body that tips tips too (sweeps).
   const int* over = over_support_.data();
   if (oriented_ && n_active > 0) {
-    be_.for_n(n_active, TipChainK{active, body_, support_idx_.data(), over, over, over_chain_[0].data(), nullptr});
+    be_.for_n(n_active, TipChainK<T>{active, body_, support_idx_.data(), over, over, over_chain_[0].data(), nullptr});
     const int r = sweep_until_fixed(n_active + 2, [&](int in, int out, int* changed) {
-      be_.for_n(n_active, TipChainK{active, body_, support_idx_.data(), over, over_chain_[in].data(),
+      be_.for_n(n_active, TipChainK<T>{active, body_, support_idx_.data(), over, over_chain_[in].data(),
                                     over_chain_[out].data(), changed});
     });
     over = over_chain_[r].data();
@@ -644,13 +660,13 @@ void Pipeline<B>::step() {
         // The oriented-box model alternates (7.2 step 5): odd passes visit
         // the colours top-down, then the bodies' own manifolds in reverse.
         const bool reverse = oriented_ && (it & 1) != 0;
-        SolveK sk{d, order, colour, immovable_.data(), vel_[1].data(), ang_[1].data(),
+        SolveK<T> sk{d, order, colour, immovable_.data(), vel_[1].data(), ang_[1].data(),
                   vel_[1].data(), ang_[1].data(), ctr_.data()};
         sk.reverse = reverse;
         sk.pass = it;
         auto colour_pass = [&](int c) {
           be_.for_n(colour_offset_[c + 1] - colour_offset_[c],
-                    SolveEdgeK{d, edges_.data() + colour_offset_[c], mate_.data(), vel_[1].data(), ang_[1].data(),
+                    SolveEdgeK<T>{d, edges_.data() + colour_offset_[c], mate_.data(), vel_[1].data(), ang_[1].data(),
                                ctr_.data(), it});
         };
         if (!reverse) {
@@ -664,7 +680,7 @@ void Pipeline<B>::step() {
     } else {
       for (int it = 0; it < iterations; ++it) {
         const int in = it % 2 == 0 ? 1 : 2, out = 3 - in;
-        SolveK sk{d, order, nullptr, nullptr, vel_[in].data(), ang_[in].data(), vel_[out].data(),
+        SolveK<T> sk{d, order, nullptr, nullptr, vel_[in].data(), ang_[in].data(), vel_[out].data(),
                   ang_[out].data(), ctr_.data()};
         sk.reverse = oriented_ && (it & 1) != 0;
         sk.pass = it;
@@ -676,7 +692,7 @@ void Pipeline<B>::step() {
 
   // 6: settling sweeps but the last (which runs with the correction).
   be_.mark(kStageSettle);
-  SettleSweep sweep{support_idx_.data(), support_n_.data(), vel_[last].data(), vel_[last].data(), oriented_};
+  SettleSweep<T> sweep{support_idx_.data(), support_n_.data(), vel_[last].data(), vel_[last].data(), oriented_};
   if (oriented_) sweep.over = over, sweep.leaning = leaning_.data();
   sweep.limit = settle_limit_.data();
   if (fx_.settling && n_active > 0) {
@@ -685,7 +701,7 @@ void Pipeline<B>::step() {
       for (int k = 0; k < batch; ++k, ++s) {
         F4* sout = settle_[s % 2].data();
         if (k + 1 == batch) be_.fill_int(scal_.data() + 3, 0, 1);
-        be_.for_n(n_active, SettleK{active, body_, sc_, sweep, sout, k + 1 == batch ? scal_.data() + 3 : nullptr});
+        be_.for_n(n_active, SettleK<T>{active, body_, sc_, sweep, sout, k + 1 == batch ? scal_.data() + 3 : nullptr});
         sweep.sin = sout;
       }
       if (read_int(scal_.data() + 3) == 0) break;
@@ -695,7 +711,7 @@ void Pipeline<B>::step() {
   // 6 (last sweep), 7-8: final velocities, position correction and integration.
   be_.mark(kStageCorrect);
   if (n_active > 0) {
-    CorrectIntegrateK ci{active, body_, sc_, nl, sdf_c0_.data(), sdf_c1_.data(), imm_[par].data(),
+    CorrectIntegrateK<T> ci{active, body_, sc_, nl, sdf_c0_.data(), sdf_c1_.data(), imm_[par].data(),
                          pair_[par].data(), vel_[last].data(), ang_[last].data(), fx_.settling,
                          sweep, p_tmp_.data(), q_tmp_.data(), ctr_.data()};
     ci.p_world = oriented_ ? p_world_.data() : nullptr;
@@ -707,7 +723,7 @@ void Pipeline<B>::step() {
         for (auto& buf : before_) buf.resize(entries);
         be_.fill_zero(before_[0].data(), entries);
         const int r = sweep_until_fixed(static_cast<int>(entries) + 2, [&](int in, int out, int* changed) {
-          be_.for_n(n_active, PairCorrectK{active, body_, sc_, nl, man, slot_of_[par].data(), p_world_.data(),
+          be_.for_n(n_active, PairCorrectK<T>{active, body_, sc_, nl, man, slot_of_[par].data(), p_world_.data(),
                                            before_[in].data(), before_[out].data(), p_pairs_.data(), changed});
         });
         (void)r;
@@ -717,7 +733,7 @@ void Pipeline<B>::step() {
         be_.fill_zero(before_[0].data(), entries);
         be_.fill_zero(turn_[0].data(), entries);
         const int r2 = sweep_until_fixed(static_cast<int>(entries) + 2, [&](int in, int out, int* changed) {
-          be_.for_n(n_active, PairTurnK{active, body_, sc_, nl, man, slot_of_[par].data(), p_pairs_.data(),
+          be_.for_n(n_active, PairTurnK<T>{active, body_, sc_, nl, man, slot_of_[par].data(), p_pairs_.data(),
                                         before_[in].data(), turn_[in].data(), before_[out].data(), turn_[out].data(),
                                         p_world_.data(), turn_slot_.data(), changed});
         });
@@ -725,7 +741,7 @@ void Pipeline<B>::step() {
         corrected = p_world_.data();
         turn = turn_slot_.data();
       }
-      be_.for_n(n_active, IntegrateK{active, body_, sc_, nl, contacts && n_awake > 0 ? man : nullptr, corrected, turn,
+      be_.for_n(n_active, IntegrateK<T>{active, body_, sc_, nl, contacts && n_awake > 0 ? man : nullptr, corrected, turn,
                                      p_tmp_.data(), q_tmp_.data(), ctr_.data()});
     }
   }
@@ -737,7 +753,7 @@ void Pipeline<B>::step() {
   int new_awake = 0;
   if (n_active > 0) {
     be_.for_n(1, SetIntK{scal_.data() + 1, error});
-    CommitSleepK cs{active, body_, sc_, p_tmp_.data(), q_tmp_.data(), support_idx_.data(),
+    CommitSleepK<T> cs{active, body_, sc_, p_tmp_.data(), q_tmp_.data(), support_idx_.data(),
                     support_n_.data(), frame_, keep_.data(), scal_.data() + 1, ctr_.data()};
     const bool eq109 = oriented_ && fx_.sleep;
     cs.ready = eq109 ? ready_.data() : nullptr;
@@ -745,13 +761,13 @@ void Pipeline<B>::step() {
     if (oriented_) cs.over = over, cs.leaning = leaning_.data();  // eq 112: one not over its support is not slowed (it sleeps on its own counter only)
     be_.for_n(n_active, cs);
     if (eq109) {  // eq 109: the ready bodies fall asleep bottom-up (sweeps)
-      const PairManifold* pairs = contacts && n_awake > 0 ? man : nullptr;
+      const PairManifold<T>* pairs = contacts && n_awake > 0 ? man : nullptr;
       be_.fill_int(sleep_sw_[0].data(), 0, static_cast<std::size_t>(n_active));
       const int r = sweep_until_fixed(n_active + 2, [&](int in, int out, int* changed) {
-        be_.for_n(n_active, SleepSweepK{active, body_, sc_, nl, pairs, slot_of_[par].data(), ready_.data(),
+        be_.for_n(n_active, SleepSweepK<T>{active, body_, sc_, nl, pairs, slot_of_[par].data(), ready_.data(),
                                         sleep_sw_[in].data(), sleep_sw_[out].data(), changed});
       });
-      SleepApplyK apply{active, body_, sc_, nl, pairs, sleep_sw_[r].data(), leaning_.data(), rests(),
+      SleepApplyK<T> apply{active, body_, sc_, nl, pairs, sleep_sw_[r].data(), leaning_.data(), rests(),
                         grow_.data(), frame_, keep_.data(), nullptr, nullptr, nullptr, {}};
       apply.load_parent = load_parent_.data();  // eq 124's records
       apply.arms = arms_.data();
@@ -787,6 +803,16 @@ void Pipeline<B>::step() {
   be_.end_frame(times_);
   if (new_awake != n_active) frozen_dirty_ = true;
   n_awake_ = new_awake;
+  if constexpr (Num<T>::kExact) {  // World<Q16>::check_faults: the frame, the body, the quantity
+    int code = 0x7fffffff;
+    unsigned flags = 0;
+    be_.download(&code, fault_code_.data(), 1);
+    be_.download(&flags, fault_flags_.data(), 1);
+    be_.sync();
+    if (code != 0x7fffffff)
+      throw RunError(frame_, code & ((1 << kFaultBodyBits) - 1), fault_quantity_name(code >> kFaultBodyBits, oriented_),
+                     q16_flag_name(flags));
+  }
   if (error != 0x7fffffff) {
     static const char* const kWhat[] = {"position", "velocity", "angular velocity", "orientation"};
     throw RunError(frame_, error / 4, kWhat[error % 4], "not finite (NaN or infinity)");
@@ -797,8 +823,8 @@ void Pipeline<B>::step() {
 // after the last step, and the last frame's contacts by slot (the warm start
 // reads them through PreviousContacts: slot_of_, stamp_, count_, nbr_, imm_,
 // ground_mask_ and pair_ or man_ of the frame's parity).
-template <class B>
-void Pipeline<B>::save(GpuState& s) {
+template <class B, class T>
+void Pipeline<B, T>::save(GpuState<T>& s) {
   const auto n = static_cast<std::size_t>(n_);
   auto down = [&](auto& host, auto& buf, std::size_t count) {
     host.resize(count);
@@ -845,8 +871,8 @@ void Pipeline<B>::save(GpuState& s) {
   const int stride = stride_[p];
   const auto per = static_cast<std::size_t>(sc_.imm_stride());
   std::vector<int> count, nbr;
-  std::vector<ContactRecord> imm, pair;
-  std::vector<PairManifold> man;
+  std::vector<ContactRecord<T>> imm, pair;
+  std::vector<PairManifold<T>> man;
   down(count, count_[p], un);
   down(s.ground_mask, ground_mask_[p], un);
   down(imm, imm_[p], un * per);
@@ -880,8 +906,8 @@ void Pipeline<B>::save(GpuState& s) {
   }
 }
 
-template <class B>
-void Pipeline<B>::load(const GpuState& s) {
+template <class B, class T>
+void Pipeline<B, T>::load(const GpuState<T>& s) {
   const auto n = static_cast<std::size_t>(n_);
   auto up = [&](auto& buf, const auto& host) {
     buf.resize(std::max<std::size_t>(host.size(), 1));
@@ -919,8 +945,8 @@ void Pipeline<B>::load(const GpuState& s) {
     const auto per = static_cast<std::size_t>(sc_.imm_stride());
     const auto entries = active * static_cast<std::size_t>(stride);
     std::vector<int> stamp(n, -1), slot(n, 0), count(active), nbr(entries, 0);
-    std::vector<ContactRecord> imm(active * per), pair(oriented_ ? 0 : entries);
-    std::vector<PairManifold> man(oriented_ ? entries : 0);
+    std::vector<ContactRecord<T>> imm(active * per), pair(oriented_ ? 0 : entries);
+    std::vector<PairManifold<T>> man(oriented_ ? entries : 0);
     for (std::size_t k = 0; k < active; ++k) {
       const auto b = static_cast<std::size_t>(s.slot_body[k]);
       stamp[b] = frame_;
@@ -960,7 +986,7 @@ void Pipeline<B>::load(const GpuState& s) {
   const int n_frozen = n_static_small_ + (n_ - n_static_ - n_awake_);
   if (!s.frozen_dirty && fx_.contacts && n_ >= 2 && n_frozen > 0) {
     frozen_grid_.bounds.resize(n);
-    be_.for_n(n_, FrozenBoundsK{body_, large_flag_.data(), frozen_grid_.bounds.data()});
+    be_.for_n(n_, FrozenBoundsK<T>{body_, large_flag_.data(), frozen_grid_.bounds.data()});
     build_grid(frozen_grid_, nullptr, n_, n_frozen);
   }
   frozen_dirty_ = s.frozen_dirty;

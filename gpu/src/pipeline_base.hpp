@@ -12,9 +12,10 @@
 
 namespace lockstep::gpu {
 
-// The state as World<float> would hold it, downloaded on demand.
+// The state as World<T> would hold it, downloaded on demand.
+template <class T>
 struct HostState {
-  std::vector<F4> pos, rot, vel, ang;
+  std::vector<T4<T>> pos, rot, vel, ang;
   std::vector<std::uint8_t> flags;
   std::vector<int> sleep_frame;
   // Run-time inputs (gpu_inputs.hpp) only, when download's `full` is set:
@@ -22,19 +23,20 @@ struct HostState {
   std::vector<int> rest_count, rest_body;  // eq 108's records: per body their count, kMaxRests supporters each
 };
 
+template <class T>
 class PipelineBase {
  public:
   virtual ~PipelineBase() = default;
   virtual void step() = 0;
   // The state; with `full`, the sleep counters and eq 108's supporters too.
-  virtual void download(HostState& out, bool full = false) = 0;
+  virtual void download(HostState<T>& out, bool full = false) = 0;
   // A pipeline rebuilt for run-time inputs goes on from this frame.
   void set_frame(int frame) { frame_ = frame; }
   // Snapshots (gpu_state.hpp): everything following frames read, downloaded
   // or uploaded by the same code on either backend. load expects a state
   // checked against this pipeline's scene (gpu_snapshot.cpp).
-  virtual void save(GpuState& out) = 0;
-  virtual void load(const GpuState& in) = 0;
+  virtual void save(GpuState<T>& out) = 0;
+  virtual void load(const GpuState<T>& in) = 0;
   // Ground and SDF contact records per slot (8 with the ground, 9 per SDF volume).
   virtual int imm_stride() const = 0;
 
@@ -57,10 +59,13 @@ class PipelineBase {
   StageTimes times_;
 };
 
-std::unique_ptr<PipelineBase> make_host_pipeline(const InitialState& s, const GpuOptions& options,
-                                                 const std::string& description);
+// Instantiated for float and Q16 (host.cpp, device.cu).
+template <class T>
+std::unique_ptr<PipelineBase<T>> make_host_pipeline(const InitialState<T>& s, const GpuOptions& options,
+                                                    const std::string& description);
 // Defined only when built with CUDA.
-std::unique_ptr<PipelineBase> make_device_pipeline(const InitialState& s, const GpuOptions& options);
+template <class T>
+std::unique_ptr<PipelineBase<T>> make_device_pipeline(const InitialState<T>& s, const GpuOptions& options);
 // Number of CUDA devices (0 when built without CUDA or when none is usable).
 int cuda_device_count();
 

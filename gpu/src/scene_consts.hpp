@@ -8,22 +8,25 @@
 namespace lockstep::gpu {
 
 // Scene-wide values the kernels need.
+template <class T>
 struct SceneConsts {
-  Params<float> P{};
-  float half_tol = 0;  // contact_tolerance / 2 (eq 97)
+  using F4 = T4<T>;
+  Params<T> P{};
+  T half_tol{};  // contact_tolerance / 2 (eq 97)
   bool gravity = false, damping = false, friction = false, restitution = false, sleep = false;
   bool ground_on = false;
-  float ground_y = 0, ground_e = 0, ground_mu = 0;
+  T ground_y{}, ground_e{}, ground_mu{};
   int n_sdf = 0;
-  const SdfGrid<float>* sdf = nullptr;
+  const SdfGrid<T>* sdf = nullptr;
   const F4* sdf_material = nullptr;  // x: e, y: mu
   const int* large = nullptr;        // large static bodies, ascending
   int n_large = 0;
-  float relaxation = 1.0f;
+  T relaxation = Num<T>::from_int(1);
   bool oriented = false;  // the oriented-box pair model (docs/SPEC.md 2.4, eqs 100-110); false: the source's AABB model
-  const float* grow = nullptr;  // oriented-box model: per body, its growth this frame (eqs 97, 107); null: AABB model
+  FaultSink faults;  // Q16 faults (kernel_support.hpp); unused for float
+  const T* grow = nullptr;  // oriented-box model: per body, its growth this frame (eqs 97, 107); null: AABB model
   // eqs 97, 107: body i's tolerance for ground corners.
-  LS_HD float immovable_tol(int i) const {
+  LS_HD T immovable_tol(int i) const {
     return grow != nullptr ? immovable_tolerance(ro(grow + i), half_tol, P.contact_tolerance) : P.contact_tolerance;
   }
   // Contacts with immovable things per active body: 8 ground corners (when

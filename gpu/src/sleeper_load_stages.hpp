@@ -17,10 +17,11 @@ namespace lockstep::gpu {
 LS_HD inline bool is_asleep(std::uint8_t f) { return (f & (kFlagStatic | kFlagAsleep)) == kFlagAsleep; }
 
 // Per body j: its sleeping load parent (eq 124's pair key), or n (none).
+template <class T>
 struct SleeperChildK {
-  BodyArrays b;
+  BodyArrays<T> b;
   const int* load_parent;  // per body (ContactsK): read for the awake ones
-  SleepSupportArrays rec;
+  SleepSupportArrays<T> rec;
   int n;
   int* flag;      // per body: 1 when j is a sleeper's load child
   unsigned* key;  // per body: the parent, or n
@@ -86,9 +87,11 @@ struct SleeperHeadsK {
 // children in ascending index): an awake child's load is eq 117's (`awake`),
 // a sleeping child's the previous sweep's when it is a parent, else its own
 // mass alone.
+template <class T>
 struct SleeperLoadK {
+  using F4 = T4<T>;
   const int* heads;
-  BodyArrays b;
+  BodyArrays<T> b;
   const unsigned* key;
   const int* child;
   const int* begin;
@@ -97,13 +100,15 @@ struct SleeperLoadK {
   const F4* in;
   F4* out;
   int* changed;
+  FaultSink faults{};
   LS_HD F4 load_of(int c) const {
     if (is_awake(ro(b.flags + c))) return ro(awake + c);
     if (ro(begin + c) >= 0) return ro(in + c);
-    return F4{0.0f, 0.0f, 0.0f, Num<float>::from_int(1) / inv_mass_of(ro(b.pos + c))};
+    return F4{T{}, T{}, T{}, Num<T>::from_int(1) / inv_mass_of(ro(b.pos + c))};
   }
   LS_HD void operator()(int h) const {
     const int s = ro(heads + h);
+    clear_faults<T>();
     const F4 ps = ro(b.pos + s);
     const int beg = ro(begin + s), stop = ro(end + s);
     auto each_child = [&](auto&& f) {  // ascending index
@@ -113,9 +118,10 @@ struct SleeperLoadK {
         f(lc.w, xyz(ro(b.pos + c)), xyz(lc));
       }
     };
-    float mass;
-    Vec3<float> offset;
+    T mass;
+    Vec3<T> offset;
     sum_load(inv_mass_of(ps), xyz(ps), each_child, mass, offset);  // eq 117's sums
+    note_faults<T>(faults, s, kFqSleeperLoad);
     const F4 result = f4(offset, mass);
     out[s] = result;
     if (changed != nullptr) {
@@ -127,27 +133,33 @@ struct SleeperLoadK {
 
 // After the sweeps: a parent whose load is not over its recorded support
 // points wakes at the end of stage 9 (SleeperWakeK).
+template <class T>
 struct SleeperTestK {
+  using F4 = T4<T>;
   const int* heads;
-  SleepSupportArrays rec;
+  SleepSupportArrays<T> rec;
   const F4* load;
   int* wake;  // per head
+  FaultSink faults{};
   LS_HD void operator()(int h) const {
     const int s = ro(heads + h);
+    clear_faults<T>();
     const int count = ro(rec.count + s);
-    Vec3<float> r[kMaxSupportPoints];
+    Vec3<T> r[kMaxSupportPoints];
     for (int a = 0; a < count && a < kMaxSupportPoints; ++a) r[a] = xyz(ro(rec.arms + s * kMaxSupportPoints + a));
     wake[h] = sleeper_load_over_support(r, count, xyz(ro(load + s))) ? 0 : 1;
+    note_faults<T>(faults, s, kFqSleeperLoad);
   }
 };
 
 // End of stage 9: the sleepers SleeperTestK found wake (as eq 81 wakes a
 // body, World<T>::wake_loaded) and join the next frame's awake list.
+template <class T>
 struct SleeperWakeK {
   const int* heads;
   const int* wake;
-  BodyArrays b;
-  RestArrays rests;
+  BodyArrays<T> b;
+  RestArrays<T> rests;
   int* woken;
   int* n_woken;
   LS_HD void operator()(int h) const {

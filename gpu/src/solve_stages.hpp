@@ -24,8 +24,10 @@ namespace lockstep::gpu {
 // splitting) over the relaxation. With `edge_colour` (the coloured solver,
 // colouring.hpp) the body visits only its immovable contacts, in place (vin
 // = vout): the contacts with active bodies are SolveEdgeK's.
+template <class T>
 struct SolveK {
-  SolverData d;
+  using F4 = T4<T>;
+  SolverData<T> d;
   const int* order;  // thread -> slot (WorkOrder), or null: thread k is slot k
   const int* edge_colour;  // the coloured solver's colours per entry, or null: Jacobi
   const int* has_immovable;  // per slot (ContactsK): the coloured solver skips bodies without immovable contacts
@@ -37,41 +39,42 @@ struct SolveK {
   bool reverse = false;  // oriented-box model, odd passes: the body's visits in reverse (7.2 step 5)
   int pass = 0;          // the solver pass (eq 113)
   LS_HD void operator()(int thread) const {
-    const BodyArrays& b = d.b;
-    const SceneConsts& sc = d.sc;
+    const BodyArrays<T>& b = d.b;
+    const SceneConsts<T>& sc = d.sc;
     const int k = order != nullptr ? ro(order + thread) : thread;
     const bool coloured = edge_colour != nullptr;
     if (coloured && ro(has_immovable + k) == 0) return;  // nothing to visit; the velocity stays in place
     const int i = ro(d.list + k);
+    clear_faults<T>();
     const F4 pi4 = ro(b.pos + i), h4 = ro(b.half + i);
-    const Vec3<float> p = xyz(pi4), a = xyz(ro(b.aabb + i)), h = xyz(h4);
-    const Mat3<float> R = rotation_matrix(quat(ro(b.rot + i)));
-    const Vec3<float> I = xyz(ro(b.inert + i));
-    const Vec3<float> v0 = xyz(coloured ? vin[i] : ro(vin + i)), w0 = xyz(coloured ? win[i] : ro(win + i));
-    BodyView<float> self = dynamic_view(v0, w0, inv_mass_of(pi4), R, I);
-    const float tol = sc.immovable_tol(i);  // eqs 97, 107
+    const Vec3<T> p = xyz(pi4), a = xyz(ro(b.aabb + i)), h = xyz(h4);
+    const Mat3<T> R = rotation_matrix(quat(ro(b.rot + i)));
+    const Vec3<T> I = xyz(ro(b.inert + i));
+    const Vec3<T> v0 = xyz(coloured ? vin[i] : ro(vin + i)), w0 = xyz(coloured ? win[i] : ro(win + i));
+    BodyView<T> self = dynamic_view(v0, w0, inv_mass_of(pi4), R, I);
+    const T tol = sc.immovable_tol(i);  // eqs 97, 107
     const int stride = sc.imm_stride();
     SolveCounts counts;
-    const Vec3<float> up{0.0f, Num<float>::from_int(1), 0.0f};
+    const Vec3<T> up{T{}, Num<T>::from_int(1), T{}};
     // Ground corners and each SDF volume's samples: manifolds (eq 99); the
     // points' state is read and written where it lives.
-    BodyView<float> env = immovable_view<float>();
+    BodyView<T> env = immovable_view<T>();
     auto loader = [&](int base) {
       return [&, base](int e) {
-        const ContactRecord& r = d.imm[k * stride + base + e];
+        const ContactRecord<T>& r = d.imm[k * stride + base + e];
         return load_state(r.a, r.b);
       };
     };
     auto storer = [&](int base) {
-      return [&, base](int e, const ContactState<float>& c) {
+      return [&, base](int e, const ContactState<T>& c) {
         d.imm[k * stride + base + e].a = F4{c.j_n, c.j_t.x, c.j_t.y, c.j_t.z};
       };
     };
     // The ground manifold and SDF volume v's (eq 99), on the body's own velocity.
     auto solve_ground = [&] {
-      auto corner_point = [&](int c, Vec3<float>& r1, Vec3<float>& r2, Vec3<float>& n, float& penetration) {
-        r2 = Vec3<float>{};
-        Vec3<float> corner;
+      auto corner_point = [&](int c, Vec3<T>& r1, Vec3<T>& r2, Vec3<T>& n, T& penetration) {
+        r2 = Vec3<T>{};
+        Vec3<T> corner;
         penetration = ground_corner_depth(p, R, h, c, sc.ground_y, corner);
         r1 = corner - p;
         n = up;
@@ -81,22 +84,22 @@ struct SolveK {
     };
     auto solve_volume = [&](int v) {
       const int base = sc.ground_slots() + 9 * v;
-      auto sample = [&](int s, Vec3<float>& r1, Vec3<float>& r2, Vec3<float>& n, float& penetration) {
-        r2 = Vec3<float>{};
+      auto sample = [&](int s, Vec3<T>& r1, Vec3<T>& r2, Vec3<T>& n, T& penetration) {
+        r2 = Vec3<T>{};
         const int g = (k * sc.n_sdf + v) * 9 + s;
         const F4 c1 = ro(d.sdf_c1 + g), c0 = ro(d.sdf_c0 + g);
         r1 = xyz(c1) - p;
         n = xyz(c0);
         penetration = c0.w;
-        return c1.w != 0.0f;
+        return c1.w != T{};
       };
       solve_manifold<9>(self, env, sample, loader(base), storer(base), sc.friction, sc.gravity, sc.P, counts);
     };
     // A pair visit's result for the body (mv, mw: its velocity after it):
     // Jacobi adds the change to dv, dw, else it is the body's velocity; the
     // pair's counts go to the lower index (or to the only active side).
-    Vec3<float> dv{}, dw{};
-    auto take = [&](const Vec3<float>& mv, const Vec3<float>& mw, bool jacobi, bool lower, const SolveCounts& here) {
+    Vec3<T> dv{}, dw{};
+    auto take = [&](const Vec3<T>& mv, const Vec3<T>& mw, bool jacobi, bool lower, const SolveCounts& here) {
       if (jacobi) {
         dv += mv - v0;
         dw += mw - w0;
@@ -119,9 +122,10 @@ struct SolveK {
         F4* st = d.conv_imm != nullptr ? d.conv_imm + (static_cast<long>(k) * (sc.ground_slots() / 8 + sc.n_sdf) + m) * 4
                                        : nullptr;
         if (visit_is_converged(st, self, env, sc.P, pass)) return;
-        const Vec3<float> v0s = self.v, w0s = self.w;
+        const Vec3<T> v0s = self.v, w0s = self.w;
         const unsigned shortened0 = counts.shortened_steps;
         solve();
+        note_faults<T>(sc.faults, i, kFqImpulse);
         record_visit(st, v0s, w0s, env.v, env.w, self, env, sc.P, counts.shortened_steps - shortened0);
       };
       auto ground = [&] { imm_visit(0, solve_ground); };
@@ -129,24 +133,24 @@ struct SolveK {
       auto pair = [&](int t) {
         const int j = ro(d.lists.nbr + t);
         if (coloured && ro(edge_colour + t) != kNoEdge) return;  // SolveEdgeK's
-        PairManifold& rec = d.man[t];
+        PairManifold<T>& rec = d.man[t];
         const int count = rec.count;
         if (count == 0) return;
-        const Vec3<float> pj = xyz(ro(b.pos + j));
+        const Vec3<T> pj = xyz(ro(b.pos + j));
         const bool lower = i < j;
         const bool jacobi = !coloured && is_awake(ro(b.flags + j));
-        BodyView<float> me = self;
+        BodyView<T> me = self;
         if (jacobi) { me.v = v0; me.w = w0; }
-        const BodyView<float> other = coloured ? immovable_view<float>() : view_of(b, j, vin, win);
-        const Vec3<float> n = xyz(rec.n);
-        const float split =
-            jacobi ? jacobi_split(ro(d.dir_count + i), ro(d.dir_count + j), lower ? n : -n, sc.relaxation) : 1.0f;
-        BodyView<float> A = pick(lower, me, other), B = pick(lower, other, me);
+        const BodyView<T> other = coloured ? immovable_view<T>() : view_of(b, j, vin, win);
+        const Vec3<T> n = xyz(rec.n);
+        const T split =
+            jacobi ? jacobi_split(ro(d.dir_count + i), ro(d.dir_count + j), lower ? n : -n, sc.relaxation) : Num<T>::from_int(1);
+        BodyView<T> A = pick(lower, me, other), B = pick(lower, other, me);
         F4* conv = d.conv_of_pair(t);
         if (visit_is_converged(conv, A, B, sc.P, pass)) return;  // eq 113
-        const Vec3<float> va0 = A.v, wa0 = A.w, vb0 = B.v, wb0 = B.w;
-        const Vec3<float> pa = lower ? p : pj, pb = lower ? pj : p;
-        auto point = [&](int c, Vec3<float>& r1, Vec3<float>& r2, Vec3<float>& nc, float& penetration) {
+        const Vec3<T> va0 = A.v, wa0 = A.w, vb0 = B.v, wb0 = B.w;
+        const Vec3<T> pa = lower ? p : pj, pb = lower ? pj : p;
+        auto point = [&](int c, Vec3<T>& r1, Vec3<T>& r2, Vec3<T>& nc, T& penetration) {
           if (c >= count) return false;
           const F4 pt = rec.pt[c];
           r1 = xyz(pt) - pa;
@@ -156,9 +160,10 @@ struct SolveK {
           return true;
         };
         auto load = [&](int c) { return load_state(rec.st[c].a, rec.st[c].b); };
-        auto store = [&](int c, const ContactState<float>& cs) { rec.st[c].a = F4{cs.j_n, cs.j_t.x, cs.j_t.y, cs.j_t.z}; };
+        auto store = [&](int c, const ContactState<T>& cs) { rec.st[c].a = F4{cs.j_n, cs.j_t.x, cs.j_t.y, cs.j_t.z}; };
         SolveCounts here;
         solve_manifold<kBoxManifoldPoints>(A, B, point, load, store, sc.friction, sc.gravity, split, sc.P, here);
+        note_faults<T>(sc.faults, lower ? i : j, kFqImpulseBody);  // World's body a: the lower index
         record_visit(conv, va0, wa0, vb0, wb0, A, B, sc.P, here.shortened_steps);
         take(pick(lower, A.v, B.v), pick(lower, A.w, B.w), jacobi, lower, here);
       };
@@ -172,8 +177,9 @@ struct SolveK {
         for (int v = sc.n_sdf - 1; v >= 0; --v) volume(v);
         if (sc.ground_on) ground();
       }
-      vout[i] = f4(coloured ? self.v : self.v + dv, 0.0f);  // (no + 0: keeps a -0 component)
-      wout[i] = f4(coloured ? self.w : self.w + dw, 0.0f);
+      note_faults<T>(sc.faults, i, kFqImpulse);
+      vout[i] = f4(coloured ? self.v : self.v + dv, T{});  // (no + 0: keeps a -0 component)
+      wout[i] = f4(coloured ? self.w : self.w + dw, T{});
       add_counter(&ctr[kCSolverContacts], counts.solver_contacts);
       add_counter(&ctr[kCNormalImpulses], counts.normal_impulses);
       add_counter(&ctr[kCFrictionSteps], counts.friction_steps);
@@ -181,6 +187,7 @@ struct SolveK {
     }
     if (sc.ground_on) solve_ground();
     for (int v = 0; v < sc.n_sdf; ++v) solve_volume(v);
+    note_faults<T>(sc.faults, i, kFqImpulse);
     const int beg = d.lists.begin(k), end = d.lists.end(k);
     for (int t = beg; t < end; ++t) {
       const int j = ro(d.lists.nbr + t);
@@ -189,29 +196,31 @@ struct SolveK {
       // met as immovable, so that no velocity is read that another thread writes.
       if (coloured && ro(edge_colour + t) != kNoEdge) continue;
       const F4 pj4 = ro(b.pos + j);
-      const Vec3<float> pj = xyz(pj4);
+      const Vec3<T> pj = xyz(pj4);
       const bool lower = i < j;
-      const PairContact<float> pc = canonical_pair(sc, i, p, a, j, pj, xyz(ro(b.aabb + j)));
-      const Vec3<float> r1 = pc.point - (lower ? p : pj), r2 = pc.point - (lower ? pj : p);
-      ContactState<float> c = load_state(d.pair[t].a, d.pair[t].b);
+      const PairContact<T> pc = canonical_pair(sc, i, p, a, j, pj, xyz(ro(b.aabb + j)));
+      const Vec3<T> r1 = pc.point - (lower ? p : pj), r2 = pc.point - (lower ? pj : p);
+      ContactState<T> c = load_state(d.pair[t].a, d.pair[t].b);
       // One call of solve_contact for every kind of pair (the threads of a
       // warp stay together): body 1 is the lower index; an immovable j is
       // solved on the body's own current velocity (self), an active j
       // (Jacobi) on both bodies' velocities at the start of the iteration.
       const bool jacobi = !coloured && is_awake(ro(b.flags + j));
-      BodyView<float> me = self;
+      BodyView<T> me = self;
       if (jacobi) { me.v = v0; me.w = w0; }
-      const BodyView<float> other = coloured ? immovable_view<float>() : view_of(b, j, vin, win);
-      const float split =
-          jacobi ? jacobi_split(ro(d.dir_count + i), ro(d.dir_count + j), lower ? pc.n : -pc.n, sc.relaxation) : 1.0f;
-      BodyView<float> A = pick(lower, me, other), B = pick(lower, other, me);
+      const BodyView<T> other = coloured ? immovable_view<T>() : view_of(b, j, vin, win);
+      const T split =
+          jacobi ? jacobi_split(ro(d.dir_count + i), ro(d.dir_count + j), lower ? pc.n : -pc.n, sc.relaxation) : Num<T>::from_int(1);
+      BodyView<T> A = pick(lower, me, other), B = pick(lower, other, me);
       SolveCounts here;
       solve_contact(A, r1, B, r2, pc.n, pc.penetration, c, sc.friction, sc.gravity, split, sc.P, here);
+      note_faults<T>(sc.faults, lower ? i : j, kFqImpulseBody);  // World's body a: the lower index
       take(pick(lower, A.v, B.v), pick(lower, A.w, B.w), jacobi, lower, here);
       d.pair[t].a = F4{c.j_n, c.j_t.x, c.j_t.y, c.j_t.z};
     }
-    vout[i] = f4(self.v + dv, 0.0f);
-    wout[i] = f4(self.w + dw, 0.0f);
+    note_faults<T>(sc.faults, i, kFqImpulse);
+    vout[i] = f4(self.v + dv, T{});
+    wout[i] = f4(self.w + dw, T{});
     add_counter(&ctr[kCSolverContacts], counts.solver_contacts);
     add_counter(&ctr[kCNormalImpulses], counts.normal_impulses);
     add_counter(&ctr[kCFrictionSteps], counts.friction_steps);
@@ -222,8 +231,10 @@ struct SolveK {
 // lower index, its owner, as World<T>) solved on both bodies' current
 // velocities, which it updates in place (no other edge of the colour touches
 // either body); both copies of the contact state are rewritten.
+template <class T>
 struct SolveEdgeK {
-  SolverData d;
+  using F4 = T4<T>;
+  SolverData<T> d;
   const int* edges;  // this colour's
   const int* mate;
   F4* vel;
@@ -231,22 +242,23 @@ struct SolveEdgeK {
   Counter* ctr;
   int pass = 0;  // the solver pass (eq 113)
   LS_HD void operator()(int e) const {
-    const BodyArrays& b = d.b;
-    const SceneConsts& sc = d.sc;
+    const BodyArrays<T>& b = d.b;
+    const SceneConsts<T>& sc = d.sc;
     const int t = ro(edges + e);
     const int i = ro(d.list + t / d.lists.stride), j = ro(d.lists.nbr + t);
+    clear_faults<T>();
     const F4 pi4 = ro(b.pos + i), pj4 = ro(b.pos + j);
-    const Vec3<float> p = xyz(pi4), pj = xyz(pj4);
+    const Vec3<T> p = xyz(pi4), pj = xyz(pj4);
     if (sc.oriented) {  // the pair's manifold (eq 99), i < j
-      PairManifold& rec = d.man[t];
-      PairManifold& twin = d.man[ro(mate + t)];
-      BodyView<float> A = dynamic_view(xyz(vel[i]), xyz(ang[i]), inv_mass_of(pi4), rotation_matrix(quat(ro(b.rot + i))),
+      PairManifold<T>& rec = d.man[t];
+      PairManifold<T>& twin = d.man[ro(mate + t)];
+      BodyView<T> A = dynamic_view(xyz(vel[i]), xyz(ang[i]), inv_mass_of(pi4), rotation_matrix(quat(ro(b.rot + i))),
                                        xyz(ro(b.inert + i)));
-      BodyView<float> B = dynamic_view(xyz(vel[j]), xyz(ang[j]), inv_mass_of(pj4), rotation_matrix(quat(ro(b.rot + j))),
+      BodyView<T> B = dynamic_view(xyz(vel[j]), xyz(ang[j]), inv_mass_of(pj4), rotation_matrix(quat(ro(b.rot + j))),
                                        xyz(ro(b.inert + j)));
       const int count = rec.count;
-      const Vec3<float> n = xyz(rec.n);
-      auto point = [&](int c, Vec3<float>& r1, Vec3<float>& r2, Vec3<float>& nc, float& penetration) {
+      const Vec3<T> n = xyz(rec.n);
+      auto point = [&](int c, Vec3<T>& r1, Vec3<T>& r2, Vec3<T>& nc, T& penetration) {
         if (c >= count) return false;
         const F4 pt = rec.pt[c];
         r1 = xyz(pt) - p;
@@ -256,41 +268,43 @@ struct SolveEdgeK {
         return true;
       };
       auto load = [&](int c) { return load_state(rec.st[c].a, rec.st[c].b); };
-      auto store = [&](int c, const ContactState<float>& cs) {
+      auto store = [&](int c, const ContactState<T>& cs) {
         const F4 state{cs.j_n, cs.j_t.x, cs.j_t.y, cs.j_t.z};
         rec.st[c].a = state;
         twin.st[c].a = state;
       };
       F4* conv = d.conv_of_pair(t);
       if (visit_is_converged(conv, A, B, sc.P, pass)) return;  // eq 113
-      const Vec3<float> va0 = A.v, wa0 = A.w, vb0 = B.v, wb0 = B.w;
+      const Vec3<T> va0 = A.v, wa0 = A.w, vb0 = B.v, wb0 = B.w;
       SolveCounts counts;
       solve_manifold<kBoxManifoldPoints>(A, B, point, load, store, sc.friction, sc.gravity, sc.P, counts);
       record_visit(conv, va0, wa0, vb0, wb0, A, B, sc.P, counts.shortened_steps);
       if (F4* twin_conv = d.conv_of_pair(ro(mate + t)); conv != nullptr && twin_conv != nullptr)
         for (int q = 0; q < 4; ++q) twin_conv[q] = conv[q];
-      vel[i] = f4(A.v, 0.0f);
-      ang[i] = f4(A.w, 0.0f);
-      vel[j] = f4(B.v, 0.0f);
-      ang[j] = f4(B.w, 0.0f);
+      note_faults<T>(sc.faults, i, kFqImpulseBody);  // i < j: World's body a
+      vel[i] = f4(A.v, T{});
+      ang[i] = f4(A.w, T{});
+      vel[j] = f4(B.v, T{});
+      ang[j] = f4(B.w, T{});
       add_counter(&ctr[kCSolverContacts], counts.solver_contacts);
       add_counter(&ctr[kCNormalImpulses], counts.normal_impulses);
       add_counter(&ctr[kCFrictionSteps], counts.friction_steps);
       return;
     }
-    const PairContact<float> pc = canonical_pair(sc, i, p, xyz(ro(b.aabb + i)), j, pj, xyz(ro(b.aabb + j)));  // i < j
-    BodyView<float> A = dynamic_view(xyz(vel[i]), xyz(ang[i]), inv_mass_of(pi4), rotation_matrix(quat(ro(b.rot + i))),
+    const PairContact<T> pc = canonical_pair(sc, i, p, xyz(ro(b.aabb + i)), j, pj, xyz(ro(b.aabb + j)));  // i < j
+    BodyView<T> A = dynamic_view(xyz(vel[i]), xyz(ang[i]), inv_mass_of(pi4), rotation_matrix(quat(ro(b.rot + i))),
                                      xyz(ro(b.inert + i)));
-    BodyView<float> B = dynamic_view(xyz(vel[j]), xyz(ang[j]), inv_mass_of(pj4), rotation_matrix(quat(ro(b.rot + j))),
+    BodyView<T> B = dynamic_view(xyz(vel[j]), xyz(ang[j]), inv_mass_of(pj4), rotation_matrix(quat(ro(b.rot + j))),
                                      xyz(ro(b.inert + j)));
-    ContactState<float> cs = load_state(d.pair[t].a, d.pair[t].b);
+    ContactState<T> cs = load_state(d.pair[t].a, d.pair[t].b);
     SolveCounts counts;
-    solve_contact(A, pc.point - p, B, pc.point - pj, pc.n, pc.penetration, cs, sc.friction, sc.gravity, 1.0f, sc.P,
+    solve_contact(A, pc.point - p, B, pc.point - pj, pc.n, pc.penetration, cs, sc.friction, sc.gravity, Num<T>::from_int(1), sc.P,
                   counts);
-    vel[i] = f4(A.v, 0.0f);
-    ang[i] = f4(A.w, 0.0f);
-    vel[j] = f4(B.v, 0.0f);
-    ang[j] = f4(B.w, 0.0f);
+    note_faults<T>(sc.faults, i, kFqImpulseBody);
+    vel[i] = f4(A.v, T{});
+    ang[i] = f4(A.w, T{});
+    vel[j] = f4(B.v, T{});
+    ang[j] = f4(B.w, T{});
     const F4 state{cs.j_n, cs.j_t.x, cs.j_t.y, cs.j_t.z};
     d.pair[t].a = state;
     d.pair[ro(mate + t)].a = state;

@@ -13,11 +13,12 @@ namespace lockstep::gpu {
 // Which of the six axis directions a body-body contact normal points most
 // nearly along (its largest component, the first on ties; eqs 41-42's
 // normals are +-1 on one axis): 2 axis + (negative).
-LS_HD inline int direction_of(const Vec3<float>& n) {
+template <class T>
+LS_HD inline int direction_of(const Vec3<T>& n) {
   int axis = 0;
   for (int ax = 1; ax < 3; ++ax)
-    if (Num<float>::abs(n[ax]) > Num<float>::abs(n[axis])) axis = ax;
-  return 2 * axis + (n[axis] < 0.0f ? 1 : 0);
+    if (Num<T>::abs(n[ax]) > Num<T>::abs(n[axis])) axis = ax;
+  return 2 * axis + (n[axis] < T{} ? 1 : 0);
 }
 
 // Mass splitting of the Jacobi solver: a body's contacts with other active
@@ -25,11 +26,12 @@ LS_HD inline int direction_of(const Vec3<float>& n) {
 // contact's effective mass is scaled by the larger of its two bodies' counts
 // in its direction (n towards body i), over the relaxation. Contacts pushing a
 // body the same way share it; opposite ones (a body in a stack) do not.
-LS_HD inline float jacobi_split(Counter counts_i, Counter counts_j, const Vec3<float>& n_towards_i, float relaxation) {
+template <class T>
+LS_HD inline T jacobi_split(Counter counts_i, Counter counts_j, const Vec3<T>& n_towards_i, const T& relaxation) {
   const int d = direction_of(n_towards_i);
   const unsigned mine = static_cast<unsigned>((counts_i >> (8 * d)) & 255u);
   const unsigned theirs = static_cast<unsigned>((counts_j >> (8 * (d ^ 1))) & 255u);
-  return Num<float>::from_int(static_cast<int>(mine > theirs ? mine : theirs)) / relaxation;
+  return Num<T>::from_int(static_cast<int>(mine > theirs ? mine : theirs)) / relaxation;
 }
 
 // Support contact of a body (settling eq 75, sleep eq 78).
@@ -38,12 +40,15 @@ inline constexpr int kStaticSupport = -2;  // ground or SDF volume: v_s = 0
 
 // c ? x : y, one float at a time (a select of whole structs can put them in
 // local memory).
-LS_HD inline float pick(bool c, float x, float y) { return c ? x : y; }
-LS_HD inline Vec3<float> pick(bool c, const Vec3<float>& x, const Vec3<float>& y) {
+template <class T>
+LS_HD inline T pick(bool c, const T& x, const T& y) { return c ? x : y; }
+template <class T>
+LS_HD inline Vec3<T> pick(bool c, const Vec3<T>& x, const Vec3<T>& y) {
   return {pick(c, x.x, y.x), pick(c, x.y, y.y), pick(c, x.z, y.z)};
 }
-LS_HD inline BodyView<float> pick(bool c, const BodyView<float>& x, const BodyView<float>& y) {
-  BodyView<float> r;
+template <class T>
+LS_HD inline BodyView<T> pick(bool c, const BodyView<T>& x, const BodyView<T>& y) {
+  BodyView<T> r;
   r.v = pick(c, x.v, y.v);
   r.w = pick(c, x.w, y.w);
   r.inv_mass = pick(c, x.inv_mass, y.inv_mass);
@@ -54,25 +59,28 @@ LS_HD inline BodyView<float> pick(bool c, const BodyView<float>& x, const BodyVi
 
 // The contact-side view of body j (dynamic when awake, else immovable). For
 // kernels that write none of the arrays it reads.
-LS_HD inline BodyView<float> view_of(const BodyArrays& b, int j, const F4* vel, const F4* ang) {
-  if (!is_awake(ro(b.flags + j))) return immovable_view<float>();
-  const F4 pj = ro(b.pos + j);
+template <class T>
+LS_HD inline BodyView<T> view_of(const BodyArrays<T>& b, int j, const T4<T>* vel, const T4<T>* ang) {
+  if (!is_awake(ro(b.flags + j))) return immovable_view<T>();
+  const T4<T> pj = ro(b.pos + j);
   return dynamic_view(xyz(ro(vel + j)), xyz(ro(ang + j)), inv_mass_of(pj), rotation_matrix(quat(ro(b.rot + j))),
                       xyz(ro(b.inert + j)));
 }
 
 // Everything the solver kernels share.
+template <class T>
 struct SolverData {
+  using F4 = T4<T>;
   const int* list;
-  BodyArrays b;
-  SceneConsts sc;
+  BodyArrays<T> b;
+  SceneConsts<T> sc;
   NeighbourLists lists;
   const Counter* dir_count;
   const F4* sdf_c0;
   const F4* sdf_c1;
-  ContactRecord* imm;   // immovable contacts' state, imm_stride() per slot
-  ContactRecord* pair;  // body-body contacts' state, one per neighbour-list entry (each body keeps its own copy)
-  PairManifold* man = nullptr;  // oriented-box model: the pair's manifold and state, per entry (instead of `pair`)
+  ContactRecord<T>* imm;   // immovable contacts' state, imm_stride() per slot
+  ContactRecord<T>* pair;  // body-body contacts' state, one per neighbour-list entry (each body keeps its own copy)
+  PairManifold<T>* man = nullptr;  // oriented-box model: the pair's manifold and state, per entry (instead of `pair`)
   // eq 113's records, only with the skip on (converged_speed > 0; null
   // otherwise: none is read or written, and the pair record stays 256 bytes):
   // 4 F4 per visit, the sides' v, w (lower index first) its last visit left,
@@ -87,37 +95,41 @@ struct SolverData {
 // its sides' velocities by less than converged_speed and they have moved by
 // less than that since. `st`: the 4 F4 of its record, A the lower index
 // (null, and never read, with the skip off).
-LS_HD inline bool visit_is_converged(const F4* st, const BodyView<float>& A, const BodyView<float>& B,
-                                     const Params<float>& P, int pass) {
-  if (!(P.converged_speed > 0.0f) || pass == 0 || pass < P.converged_pass || st[0].w == 0.0f) return false;
+template <class T>
+LS_HD inline bool visit_is_converged(const T4<T>* st, const BodyView<T>& A, const BodyView<T>& B,
+                                     const Params<T>& P, int pass) {
+  if (!(T{} < P.converged_speed) || pass == 0 || pass < P.converged_pass || st[0].w == T{}) return false;
   return visit_converged(xyz(st[0]), xyz(st[1]), A.v, A.w, P.converged_speed) &&
          visit_converged(xyz(st[2]), xyz(st[3]), B.v, B.w, P.converged_speed);
 }
 // The record of a visit that took its sides from (va0, wa0, vb0, wb0) to A, B
 // with `shortened` steps of eq 99 (alpha < 1: partial progress, not small).
-LS_HD inline void record_visit(F4* st, const Vec3<float>& va0, const Vec3<float>& wa0, const Vec3<float>& vb0,
-                               const Vec3<float>& wb0, const BodyView<float>& A, const BodyView<float>& B,
-                               const Params<float>& P, unsigned shortened) {
-  if (!(P.converged_speed > 0.0f)) return;  // the skip is off (the default): no record is read, none is kept
+template <class T>
+LS_HD inline void record_visit(T4<T>* st, const Vec3<T>& va0, const Vec3<T>& wa0, const Vec3<T>& vb0,
+                               const Vec3<T>& wb0, const BodyView<T>& A, const BodyView<T>& B,
+                               const Params<T>& P, unsigned shortened) {
+  if (!(T{} < P.converged_speed)) return;  // the skip is off (the default): no record is read, none is kept
   const bool small = shortened == 0 && visit_converged(va0, wa0, A.v, A.w, P.converged_speed) &&
                      visit_converged(vb0, wb0, B.v, B.w, P.converged_speed);
-  st[0] = f4(A.v, small ? 1.0f : 0.0f);
-  st[1] = f4(A.w, 0.0f);
-  st[2] = f4(B.v, 0.0f);
-  st[3] = f4(B.w, 0.0f);
+  st[0] = f4(A.v, small ? Num<T>::from_int(1) : T{});
+  st[1] = f4(A.w, T{});
+  st[2] = f4(B.v, T{});
+  st[3] = f4(B.w, T{});
 }
 
 // Last frame's contacts, for the warm start (eq 96): the accumulated normal
 // impulse is the x of each contact's first state F4.
+template <class T>
 struct PreviousContacts {
+  using F4 = T4<T>;
   int frame;  // the previous frame's number
   const int* slot_of;
   const int* stamp;
   NeighbourLists lists;
-  const ContactRecord* imm;
+  const ContactRecord<T>* imm;
   const int* ground_mask;  // per slot: bit c set when ground corner c was a contact
-  const ContactRecord* pair;
-  const PairManifold* man = nullptr;  // oriented-box model
+  const ContactRecord<T>* pair;
+  const PairManifold<T>* man = nullptr;  // oriented-box model
   LS_HD bool had(int i) const { return ro(stamp + i) == frame; }
   // The entry of pair (i, j) in j's previous list (j active last frame), or -1.
   LS_HD int entry_of(int j, int i) const { return had(j) ? lists.find(ro(slot_of + j), i) : -1; }

@@ -275,6 +275,7 @@ void validate_scene_for(std::string_view number_type, const Scene& scene) {
 }
 
 std::string number_type_of_engine(std::string_view engine_name) {
+  if (engine_name.substr(0, 9) == "gpu-fixed") return "fixed";  // the GPU engine on Q16.16: World<Q16>'s physics
   if (engine_name.substr(0, 3) == "gpu") return "float";  // the GPU engine: World<float>'s physics (docs/GPU.md)
   return std::string(engine_name);
 }

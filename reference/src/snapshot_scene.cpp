@@ -19,6 +19,7 @@ const char* snapshot_number_name(SnapshotNumber n) {
     case SnapshotNumber::kDouble: return "double";
     case SnapshotNumber::kMp: return "mp";
     case SnapshotNumber::kGpu: return "gpu";
+    case SnapshotNumber::kGpuFixed: return "gpu-fixed";
   }
   return "?";
 }
@@ -185,8 +186,8 @@ SnapshotInfo read_snapshot_info(const std::uint8_t* data, std::size_t size) {
                             std::to_string(kSnapshotVersion),
                         "header.version");
   const std::uint8_t number = r.u8("header.number_type");
-  if (number < 1 || number > 5)
-    throw SnapshotError("unknown number type " + std::to_string(number) + " (1 fixed, 2 float, 3 double, 4 mp, 5 gpu)",
+  if (number < 1 || number > 6)
+    throw SnapshotError("unknown number type " + std::to_string(number) + " (1 fixed, 2 float, 3 double, 4 mp, 5 gpu, 6 gpu-fixed)",
                         "header.number_type");
   info.number = static_cast<SnapshotNumber>(number);
   if (r.u8("header.reserved") != 0) throw SnapshotError("corrupt: reserved header byte 11 is not 0", "header.reserved");

@@ -6,8 +6,11 @@
 //   gpu_bench [--sizes 10000,100000,1000000,10000000] [--cpu-sizes 10000]
 //             [--sleep-size 1000000] [--sleep-frames 1500] [--backend auto|host]
 //             [--json out.json] [--profile N] [--solver coloured|jacobi]
-//             [--model aabb|oriented_box]
+//             [--model aabb|oriented_box] [--number float|fixed|both]
 // --solver: GpuOptions::pair_solver of the GPU runs (default coloured).
+// --number: the GPU engine's number type: float ("gpu", the default), fixed
+// ("gpu-fixed", the pipeline on Q16.16: World<Q16>'s bits, docs/GPU.md
+// "gpu-fixed") or both (each size on both, float first).
 // --model: the pile's "pair_contacts" (default oriented_box, the engines'
 // default; aabb is the source's model of docs/GPU.md's earlier tables).
 // --profile N: only runs the awake pile of N cubes for 41 frames and
@@ -85,10 +88,11 @@ double mean(const std::vector<double>& v) {
   return v.empty() ? 0.0 : s / static_cast<double>(v.size());
 }
 
+template <class T>
 Timing time_gpu(const Scene& s, int warm) {
   lockstep::gpu::GpuOptions o = g_options;
   o.stage_timing = true;
-  GpuWorld g(s, o);
+  lockstep::gpu::BasicGpuWorld<T> g(s, o);
   for (int f = 0; f < warm; ++f) g.step();
   Timing t;
   // Wall clock per step (a step ends when the device has finished it), with
@@ -140,7 +144,7 @@ std::string json_row(const char* engine, const char* state, long n, const Timing
 }
 
 void print_row(const char* engine, const char* state, long n, const Timing& t) {
-  std::printf("%-8s %-7s %9ld %10.3f %12.3e %9d", engine, state, n, t.ms_per_step,
+  std::printf("%-9s %-7s %9ld %10.3f %12.3e %9d", engine, state, n, t.ms_per_step,
               t.ms_per_step > 0 ? static_cast<double>(n) / (t.ms_per_step * 1e-3) : 0.0, t.awake);
   for (double ms : t.stage_ms) std::printf(" %7.3f", ms);
   std::printf("\n");
@@ -153,7 +157,8 @@ int main(int argc, char** argv) {
   std::vector<long> sizes{10000, 100000, 1000000, 10000000}, cpu_sizes{10000};
   long sleep_size = 1000000;
   int sleep_frames = 1500;
-  std::string json_path, backend_name = "auto", solver_name = "coloured", model_name = "oriented_box";
+  std::string json_path, backend_name = "auto", solver_name = "coloured", model_name = "oriented_box",
+              number_name = "float";
   long profile = 0;
   for (int a = 1; a + 1 < argc; a += 2) {
     const std::string k = argv[a], v = argv[a + 1];
@@ -166,6 +171,7 @@ int main(int argc, char** argv) {
     else if (k == "--profile") profile = std::atol(v.c_str());
     else if (k == "--solver") solver_name = v;
     else if (k == "--model") model_name = v;
+    else if (k == "--number") number_name = v;
     else { std::fprintf(stderr, "gpu_bench: unknown option %s\n", k.c_str()); return 2; }
   }
   if (solver_name != "coloured" && solver_name != "jacobi") {
@@ -176,6 +182,11 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "gpu_bench: --model %s: expected aabb or oriented_box\n", model_name.c_str());
     return 2;
   }
+  if (number_name != "float" && number_name != "fixed" && number_name != "both") {
+    std::fprintf(stderr, "gpu_bench: --number %s: expected float, fixed or both\n", number_name.c_str());
+    return 2;
+  }
+  const bool gpu_float = number_name != "fixed", gpu_fixed = number_name != "float";
   g_model = model_name == "aabb" ? lockstep::PairModel::kAabb : lockstep::PairModel::kOrientedBox;
   g_options.backend = backend_name == "host" ? lockstep::gpu::Backend::kHost : lockstep::gpu::Backend::kAuto;
   g_options.pair_solver = solver_name == "jacobi" ? lockstep::gpu::GpuOptions::PairSolver::kJacobi
@@ -197,17 +208,24 @@ int main(int argc, char** argv) {
   std::printf("scene: settling pile, columns of %d unit cubes 0.2 m apart, turned by up to %.2f; awake: sleep off,"
               " timed frames %d..%d; asleep: built resting and asleep\n",
               kColumn, kJitter, kWarmFrames + 1, kWarmFrames + kTimedFrames);
-  std::printf("%-8s %-7s %9s %10s %12s %9s", "engine", "state", "bodies", "ms/step", "body-steps/s", "awake");
+  std::printf("%-9s %-7s %9s %10s %12s %9s", "engine", "state", "bodies", "ms/step", "body-steps/s", "awake");
   for (int k = 0; k < lockstep::gpu::kStageCount; ++k) std::printf(" %7.7s", lockstep::gpu::stage_name(k));
   std::printf("\n");
   std::vector<std::string> rows;
   for (long n : sizes) {
-    const Timing awake = time_gpu(gpu_test_pile(n, false, true), kWarmFrames);
-    print_row("gpu", "awake", n, awake);
-    rows.push_back(json_row("gpu", "awake", n, awake));
-    const Timing asleep = time_gpu(gpu_test_pile(n, true), 2);
-    print_row("gpu", "asleep", n, asleep);
-    rows.push_back(json_row("gpu", "asleep", n, asleep));
+    for (const bool fixed : {false, true}) {
+      if (fixed ? !gpu_fixed : !gpu_float) continue;
+      const char* name = fixed ? "gpu-fixed" : "gpu";
+      auto time = [&](const Scene& s, int warm) {
+        return fixed ? time_gpu<lockstep::Q16>(s, warm) : time_gpu<float>(s, warm);
+      };
+      const Timing awake = time(gpu_test_pile(n, false, true), kWarmFrames);
+      print_row(name, "awake", n, awake);
+      rows.push_back(json_row(name, "awake", n, awake));
+      const Timing asleep = time(gpu_test_pile(n, true), 2);
+      print_row(name, "asleep", n, asleep);
+      rows.push_back(json_row(name, "asleep", n, asleep));
+    }
   }
   for (long n : cpu_sizes) {
     for (const char* engine : {"fixed", "double"}) {
@@ -244,7 +262,7 @@ int main(int argc, char** argv) {
   if (!json_path.empty()) {
     std::ofstream out(json_path);
     out << "{\"device\":\"" << dev.name << "\",\"multiprocessors\":" << dev.multiprocessors
-        << ",\"copy_bandwidth_gbs\":" << copy_gbs << ",\"pair_solver\":\"" << solver_name << "\"" << ",\"pair_contacts\":\"" << model_name << "\"" << ",\"column\":" << kColumn << ",\"jitter\":" << kJitter << ",\"warm_frames\":" << kWarmFrames
+        << ",\"copy_bandwidth_gbs\":" << copy_gbs << ",\"pair_solver\":\"" << solver_name << "\"" << ",\"pair_contacts\":\"" << model_name << "\"" << ",\"number\":\"" << number_name << "\"" << ",\"column\":" << kColumn << ",\"jitter\":" << kJitter << ",\"warm_frames\":" << kWarmFrames
         << ",\"timed_frames\":" << kTimedFrames << ",\"rows\":[";
     for (std::size_t k = 0; k < rows.size(); ++k) out << (k ? ",\n" : "\n") << rows[k];
     out << "],\"settling_run\":[";

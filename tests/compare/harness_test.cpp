@@ -338,6 +338,8 @@ TEST(EngineNames, VariantsAreAcceptedOnRequestOnly) {
   const bool gpu = std::find(listed.begin(), listed.end(), "gpu") != listed.end();
   EXPECT_EQ(std::find(listed.begin(), listed.end(), "gpu-jacobi"), listed.end());
   EXPECT_EQ(std::find(accepted.begin(), accepted.end(), "gpu-jacobi") != accepted.end(), gpu);
+  EXPECT_EQ(std::find(listed.begin(), listed.end(), "gpu-fixed"), listed.end());
+  EXPECT_EQ(std::find(accepted.begin(), accepted.end(), "gpu-fixed") != accepted.end(), gpu);
   Scene scene = *builtin_scene("stack5");
   scene.pair_contacts = PairModel::kAabb;  // a model every engine runs
   for (const std::string& name : accepted) EXPECT_EQ(make_engine(name, scene)->name(), name);

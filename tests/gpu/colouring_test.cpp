@@ -77,7 +77,7 @@ Colouring colour(Graph& g, bool reversed) {
   auto launch = [&](int n, const auto& f) {
     for (int t = 0; t < n; ++t) f(reversed ? n - 1 - t : t);
   };
-  EdgeArrays arrays;
+  EdgeArrays<float> arrays;
   arrays.slot_of = g.slot_of.data();
   arrays.inv_cell = &inv_cell;
   arrays.mate = c.mate.data();

@@ -227,6 +227,7 @@ TEST(SceneLimitsFloat, InverseInertiaAndMass) {
   EXPECT_FALSE(check("mp", cube(1e-310, 0.5)).refused);
   EXPECT_EQ(number_type_of_engine("gpu"), "float");
   EXPECT_EQ(number_type_of_engine("gpu-jacobi"), "float");
+  EXPECT_EQ(number_type_of_engine("gpu-fixed"), "fixed");  // the GPU engine on Q16.16 (docs/GPU.md "gpu-fixed")
   EXPECT_EQ(number_type_of_engine("fixed"), "fixed");
 }
 

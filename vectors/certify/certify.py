@@ -2,7 +2,9 @@
 """Determinism certification of lockstep's fixed engine (docs/CERTIFICATION.md).
 
 Builds the certification driver (vectors/certify/driver.cpp with the fixed
-engine's sources only: no Boost, no JSON library) under a matrix of compilers,
+engine's sources only: no Boost, no JSON library; the rows *-gpu-fixed with
+the GPU engine's pipeline on Q16.16 instead, host build, docs/GPU.md
+"gpu-fixed") under a matrix of compilers,
 optimisation levels and architectures, runs every built-in scene on each build
 and proves that every build gives the same state hash (eq 92) after every frame
 as the checked-in vectors (vectors/data/scenes/*.json), and the same sleep
@@ -11,7 +13,7 @@ frames. Foreign Linux architectures run under qemu-user; WebAssembly
 under wine.
 
   vectors/certify/certify.py            the full matrix
-  vectors/certify/certify.py --ci       the CI subset (2 compilers x 2 optimisation levels + aarch64)
+  vectors/certify/certify.py --ci       the CI subset (2 compilers x 2 optimisation levels + aarch64 + gpu-fixed)
   vectors/certify/certify.py --list     print the matrix and exit
   options: --builds NAME,NAME  --scenes A,B  --jobs N  --work DIR  --vectors DIR  --report FILE  --skip-missing
            --all-frames (no frame limit for emulated -O0 builds; by default they certify pile1000 frames 0-120)
@@ -54,8 +56,16 @@ SOURCES = [
     "vectors/certify/driver.cpp",
 ]
 INCLUDES = ["fixed/include", "reference/include"]
+# gpu-fixed builds (docs/GPU.md "gpu-fixed"): the same driver on the GPU
+# engine's pipeline on Q16.16, host build (driver.cpp with
+# -DLOCKSTEP_CERTIFY_GPU_FIXED, vectors/certify/gpu_fixed_engine.hpp), which
+# must give the same vectors on every built-in scene, every frame.
+GPU_FIXED_SOURCES = ["gpu/src/host.cpp", "gpu/src/initial_state.cpp"]
+GPU_FIXED_INCLUDES = ["gpu/include", "gpu/src", "compare/include", "vectors/certify"]
+GPU_FIXED_DEFINES = ["-DLOCKSTEP_CERTIFY_GPU_FIXED"]
 # The driver and the platform files some builds add (wasm32-wasi's throw, its Node.js runner).
-CERTIFY_FILES = ["vectors/certify/driver.cpp", "vectors/certify/wasi_throw.cpp", "vectors/certify/run_wasi.mjs"]
+CERTIFY_FILES = ["vectors/certify/driver.cpp", "vectors/certify/gpu_fixed_engine.hpp", "vectors/certify/wasi_throw.cpp",
+                 "vectors/certify/run_wasi.mjs"]
 # The project's flags for all host code (cmake/LockstepFlags.cmake), before the matrix flags.
 BASE_FLAGS = ["-std=c++20", "-ffp-contract=off", "-Wall", "-Wextra", "-Wpedantic", "-Wshadow"]
 
@@ -163,13 +173,24 @@ ARCHES = {
 
 
 class Build:
-    def __init__(self, arch, compiler, flags, limits=None):
+    def __init__(self, arch, compiler, flags, limits=None, engine="fixed"):
         self.arch = ARCHES[arch]
         self.compiler = compiler  # "gcc", "clang" or one of the architecture's compilers ("emscripten")
         self.flags = flags        # the matrix flags (after BASE_FLAGS)
         self.limits = limits or {}  # scene -> frames certified (default: all)
-        self.name = "%s-%s%s" % (arch, compiler, "".join(f.replace("-march=", "-").replace("-f", "-")
-                                                         for f in flags).replace(" ", ""))
+        self.engine = engine      # "fixed" (World<Q16>) or "gpu-fixed" (the GPU engine's pipeline, host build)
+        self.name = "%s-%s%s%s" % (arch, compiler, "".join(f.replace("-march=", "-").replace("-f", "-")
+                                                           for f in flags).replace(" ", ""),
+                                   "-gpu-fixed" if engine == "gpu-fixed" else "")
+
+    def sources(self):
+        return SOURCES + (GPU_FIXED_SOURCES if self.engine == "gpu-fixed" else [])
+
+    def includes(self):
+        return INCLUDES + (GPU_FIXED_INCLUDES if self.engine == "gpu-fixed" else [])
+
+    def defines(self):
+        return GPU_FIXED_DEFINES if self.engine == "gpu-fixed" else []
 
     def command(self):
         if self.compiler in self.arch.compilers:
@@ -246,6 +267,10 @@ def matrix_full(all_frames=False):
         b.append(Build("wasm32-wasi", "clang", flags))
     for flags in (["-O2"], ["-O3", "-ffast-math"]):
         b.append(Build("win64", "gcc", flags))
+    # gpu-fixed: the GPU engine's pipeline on Q16.16 (host build), natively and on aarch64.
+    for cc, flags in (("gcc", ["-O2"]), ("clang", ["-O2"]), ("gcc", ["-O3", "-ffast-math"])):
+        b.append(Build("x86_64", cc, flags, engine="gpu-fixed"))
+    b.append(Build("aarch64", "gcc", ["-O2"], engine="gpu-fixed"))
     return b
 
 
@@ -254,7 +279,7 @@ def matrix_ci():
     # architecture (big-endian s390x would do too; aarch64 is the common one).
     return [Build("x86_64", "gcc", ["-O0"]), Build("x86_64", "gcc", ["-O2"]),
             Build("x86_64", "clang", ["-O0"]), Build("x86_64", "clang", ["-O2"]),
-            Build("aarch64", "gcc", ["-O2"])]
+            Build("aarch64", "gcc", ["-O2"]), Build("x86_64", "gcc", ["-O2"], engine="gpu-fixed")]
 
 
 # The Debian (bookworm) packages that provide each tool, for the messages.
@@ -297,7 +322,7 @@ def snapshot_sources(work):
     dst = os.path.join(work, "src")
     if os.path.exists(dst):
         shutil.rmtree(dst)
-    for d in INCLUDES + ["fixed/src", "reference/src"]:
+    for d in INCLUDES + ["fixed/src", "reference/src", "gpu/include", "gpu/src", "compare/include"]:
         shutil.copytree(os.path.join(ROOT, d), os.path.join(dst, d))
     os.makedirs(os.path.join(dst, "vectors", "certify"))
     for f in CERTIFY_FILES:
@@ -320,6 +345,7 @@ def source_fingerprint(src):
     if rc == 0:
         rev = out.strip()
         rc, out, _ = run(["git", "status", "--porcelain", "--"] + INCLUDES + ["fixed/src", "reference/src"]
+                         + GPU_FIXED_INCLUDES[:3] + GPU_FIXED_SOURCES
                          + CERTIFY_FILES)
         if rc == 0 and out.strip():
             rev += " + uncommitted changes"
@@ -357,8 +383,9 @@ def build_and_run(build, work, src, timeout, scenes):
            "setup": None}
     exe = build.executable(work)
     env = build.env(work)
-    cmd = (build.command() + BASE_FLAGS + build.flags + ["-I" + os.path.join(src, i) for i in INCLUDES]
-           + [os.path.join(src, f) for f in SOURCES + build.arch.extra_sources] + build.arch.link_flags + ["-o", exe])
+    cmd = (build.command() + BASE_FLAGS + build.flags + build.defines() + ["-I" + os.path.join(src, i) for i in build.includes()]
+           + [os.path.join(src, f) for f in build.sources() + build.arch.extra_sources] + build.arch.link_flags
+           + ["-o", exe])
     if build.arch.static:
         cmd.append("-static")
     res["compile_command"] = " ".join(cmd)
@@ -519,7 +546,8 @@ def markdown_table(results, scenes):
     rows = [head, sep]
     for r in results:
         b = r["build"]
-        label = "`%s %s %s`" % (b.arch.name, b.compiler, " ".join(b.flags))
+        label = "`%s %s %s%s`" % (b.arch.name, b.compiler, " ".join(b.flags),
+                                  " gpu-fixed" if b.engine == "gpu-fixed" else "")
         if r.get("skipped"):
             rows.append("| %s | %s |" % (label, " | ".join(["SKIPPED: " + r["skipped"]] + [""] * (len(scenes) - 1))))
             continue

@@ -4,6 +4,9 @@
 // Built from the fixed engine's sources only (fixed/src/q16.cpp,
 // reference/src/{run_error,world_fixed,builtin_scenes,sdf_generators}.cpp and
 // this file): no Boost, no JSON library, so every cross compiler builds it.
+// With -DLOCKSTEP_CERTIFY_GPU_FIXED (and gpu/src/{host,initial_state}.cpp) it
+// runs gpu-fixed instead, the GPU engine's pipeline on Q16.16, host build
+// (docs/GPU.md "gpu-fixed"): certify.py's gpu-fixed rows, the same records.
 //
 // usage: lockstep_certify_driver [--frames SCENE=N]... [--dump SCENE FRAME] [--info] [SCENE...]
 //   SCENE...          scenes to run (default: every built-in scene)
@@ -30,11 +33,20 @@
 #include "lockstep/builtin_scenes.hpp"
 #include "lockstep/fixed/q16_vec.hpp"
 #include "lockstep/world.hpp"
+#if defined(LOCKSTEP_CERTIFY_GPU_FIXED)
+#include "gpu_fixed_engine.hpp"
+#endif
 
 namespace {
 
 using lockstep::Q16;
-using lockstep::World;
+#if defined(LOCKSTEP_CERTIFY_GPU_FIXED)
+using World = lockstep::certify::GpuFixedEngine;  // World<Q16>'s interface, as the driver uses it
+constexpr const char* kEngine = "gpu-fixed";
+#else
+using World = lockstep::World<Q16>;
+constexpr const char* kEngine = "fixed";
+#endif
 
 const char* compiler() {
 #if defined(__clang__)
@@ -67,11 +79,11 @@ void print_build() {
   while (!cc.empty() && cc.back() == ' ') cc.pop_back();
   for (char& c : cc)
     if (c == ' ') c = '_';
-  std::printf("build compiler=%s pointer_bits=%zu endian=%s optimize=%s fast_math=%s\n", cc.c_str(), sizeof(void*) * 8,
-              little_endian() ? "little" : "big", opt.c_str(), fast);
+  std::printf("build compiler=%s pointer_bits=%zu endian=%s optimize=%s fast_math=%s engine=%s\n", cc.c_str(),
+              sizeof(void*) * 8, little_endian() ? "little" : "big", opt.c_str(), fast, kEngine);
 }
 
-void print_state(const World<Q16>& w) {
+void print_state(const World& w) {
   for (std::size_t i = 0; i < w.bodies().size(); ++i) {
     const auto& b = w.bodies()[i];
     std::printf("state %d %zu %" PRId32 " %" PRId32 " %" PRId32 " %" PRId32 " %" PRId32 " %" PRId32 " %" PRId32
@@ -105,7 +117,7 @@ int run_scene(const std::string& name, long frames, long dump_frame) {
   if (!scene) return usage(("unknown scene '" + name + "'").c_str());
   if (frames < 0) frames = scene->frames;
   try {
-    World<Q16> world(*scene);
+    World world(*scene);
     if (dump_frame >= 0) {
       while (world.frame() < dump_frame) world.step();
       print_state(world);

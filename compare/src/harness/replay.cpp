@@ -160,8 +160,11 @@ ReplayReport replay(const RunRecording& rec, const std::string& engine, const En
   const int f = r.first_frame;
   r.frames = f;
   r.recorded_hash = rec.hashes[static_cast<std::size_t>(f - 1)];
-  // "gpu-jacobi" is a gpu engine (float); a test's "fixed-perturbed" a fixed one.
-  auto number_type = [](const std::string& name) { return number_type_of_engine(name.substr(0, name.find('-'))); };
+  // "gpu-jacobi" is a gpu engine (float), "gpu-fixed" one on Q16.16 (fixed);
+  // a test's "fixed-perturbed" a fixed one.
+  auto number_type = [](const std::string& name) {
+    return number_type_of_engine(name.rfind("gpu", 0) == 0 ? name : name.substr(0, name.find('-')));
+  };
   if (number_type(engine) != number_type(rec.engine))
     r.note = "the engines compute in different number types (" + number_type(rec.engine) + ", " +
              number_type(engine) + "): their bits part at the first frame that computes anything; "

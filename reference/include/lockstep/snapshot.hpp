@@ -30,7 +30,7 @@ inline constexpr std::size_t kSnapshotChecksumSize = 8;
 
 // The number type byte of the header; 5: the GPU engine's snapshots (float,
 // its own body of the format: docs/SNAPSHOTS.md "The GPU engine").
-enum class SnapshotNumber : std::uint8_t { kFixed = 1, kFloat = 2, kDouble = 3, kMp = 4, kGpu = 5 };
+enum class SnapshotNumber : std::uint8_t { kFixed = 1, kFloat = 2, kDouble = 3, kMp = 4, kGpu = 5, kGpuFixed = 6 };
 // "fixed", "float", "double", "mp" (Num<T>::kName, the engine's name), "gpu", or "?".
 const char* snapshot_number_name(SnapshotNumber n);
 

@@ -111,7 +111,8 @@ class EngineRun {
 std::vector<std::string> engine_names();
 // Variants that make_engine also accepts, named on request only (not in
 // engine_names()): "gpu-jacobi" (when "gpu" is present), the GPU engine with
-// its Jacobi pair solver (docs/GPU.md "Contact resolution").
+// its Jacobi pair solver (docs/GPU.md "Contact resolution"), and "gpu-fixed",
+// the GPU engine on Q16.16 (World<Q16>'s bits, docs/GPU.md "gpu-fixed").
 std::vector<std::string> engine_variants();
 // engine_names() then engine_variants(): every name make_engine accepts.
 std::vector<std::string> accepted_engine_names();

@@ -23,8 +23,14 @@
 #include <cstdint>
 #include <limits>
 
-// Forced inlining of the hot Q16 primitives (GCC and clang; others inline at will).
-#if defined(__GNUC__) || defined(__clang__)
+#include "lockstep/hd.hpp"
+
+// Forced inlining of the hot Q16 primitives (GCC and clang; others inline at
+// will). Every operation is host and device code (LS_HD): the GPU engine's
+// gpu-fixed pipeline runs them in CUDA kernels (docs/GPU.md "gpu-fixed").
+#if defined(__CUDACC__)
+#define LOCKSTEP_Q16_INLINE __host__ __device__ __forceinline__
+#elif defined(__GNUC__) || defined(__clang__)
 #define LOCKSTEP_Q16_INLINE inline __attribute__((always_inline))
 #define LOCKSTEP_Q16_OVERFLOW_BUILTINS 1  // __builtin_add/sub_overflow: the exact sum and whether it fits
 #else
@@ -45,12 +51,29 @@ enum Q16Flag : std::uint32_t {
 
 // The calling thread's sticky flags. Operations only ever OR into it.
 inline constinit thread_local std::uint32_t q16_status_word = 0;
-inline std::uint32_t q16_status() { return q16_status_word; }
-inline void q16_clear_status() { q16_status_word = 0; }
+#if defined(__CUDACC__)
+// On a CUDA device there is no thread_local: each thread of a block has its
+// own word in this block-shared array, at threadIdx.x (the GPU engine's
+// kernels run at most kQ16DeviceThreads threads per block). A kernel reads
+// and clears its thread's word after each element (gpu/src/kernel_support.hpp).
+inline constexpr int kQ16DeviceThreads = 256;
+static __shared__ std::uint32_t q16_device_words[kQ16DeviceThreads];
+#endif
+// The calling thread's word: q16_status_word on the host, its shared word on a device.
+LS_HD inline std::uint32_t& q16_status_ref() {
+#if defined(__CUDA_ARCH__)
+  return q16_device_words[threadIdx.x];
+#else
+  return q16_status_word;
+#endif
+}
+LS_HD inline std::uint32_t q16_status() { return q16_status_ref(); }
+LS_HD inline void q16_clear_status() { q16_status_ref() = 0; }
 // Returns the flags raised since the last call and clears them.
-inline std::uint32_t q16_take_status() {
-  const std::uint32_t s = q16_status_word;
-  q16_status_word = 0;
+LS_HD inline std::uint32_t q16_take_status() {
+  std::uint32_t& w = q16_status_ref();
+  const std::uint32_t s = w;
+  w = 0;
   return s;
 }
 const char* q16_flag_name(std::uint32_t flags);
@@ -58,12 +81,12 @@ const char* q16_flag_name(std::uint32_t flags);
 namespace q16detail {
 constexpr std::int64_t kMax = std::numeric_limits<std::int32_t>::max();
 constexpr std::int64_t kMin = std::numeric_limits<std::int32_t>::min();
-inline void raise(std::uint32_t f) { q16_status_word |= f; }
+LS_HD inline void raise(std::uint32_t f) { q16_status_ref() |= f; }
 // The clamp of an int64 outside int32 (the rare path of saturate, out of line).
-#if defined(__GNUC__) || defined(__clang__)
+#if (defined(__GNUC__) || defined(__clang__)) && !defined(__CUDACC__)
 [[gnu::cold, gnu::noinline]]
 #endif
-inline std::int32_t clamp_out_of_range(std::int64_t v) {
+LS_HD inline std::int32_t clamp_out_of_range(std::int64_t v) {
   raise(kQ16Overflow);
   return static_cast<std::int32_t>(v > kMax ? kMax : kMin);
 }
@@ -82,7 +105,7 @@ LOCKSTEP_Q16_INLINE std::int64_t round_shift16_any(std::int64_t s) {
   return q + (((s & 0xFFFF) + 0x7FFF + (q & 1)) >> 16);
 }
 // floor(n / d) for d != 0, exact in int64 (C++ '/' truncates toward zero).
-constexpr std::int64_t floor_div(std::int64_t n, std::int64_t d) {
+LS_HD constexpr std::int64_t floor_div(std::int64_t n, std::int64_t d) {
   std::int64_t q = n / d;
   if ((n % d != 0) && ((n < 0) != (d < 0))) --q;
   return q;
@@ -92,14 +115,14 @@ constexpr std::int64_t floor_div(std::int64_t n, std::int64_t d) {
 // (two's complement: p = q 2^16 + r, 0 <= r < 2^16), the result is q + 1 when
 // r > 2^15, or r = 2^15 and q is odd; branch-free, that is
 // (p + 2^15 - 1 + (q & 1)) >> 16.
-constexpr std::int64_t round_shift16(std::int64_t p) {
+LS_HD constexpr std::int64_t round_shift16(std::int64_t p) {
   return (p + 0x7FFF + ((p >> 16) & 1)) >> 16;
 }
 // round(n / d) to nearest, ties to even, d != 0, exact in int64 for
 // |n|, |d| < 2^62. Ties to even is sign-symmetric (round(-x) = -round(x)), so
 // it is computed on |n| / |d| with one unsigned division: the quotient q and
 // remainder r, up when 2r > |d|, or 2r = |d| and q is odd; then the sign.
-constexpr std::int64_t round_div(std::int64_t n, std::int64_t d) {
+LS_HD constexpr std::int64_t round_div(std::int64_t n, std::int64_t d) {
   const bool negative = (n < 0) != (d < 0);
   const std::uint64_t un = n < 0 ? 0 - static_cast<std::uint64_t>(n) : static_cast<std::uint64_t>(n);
   const std::uint64_t ud = d < 0 ? 0 - static_cast<std::uint64_t>(d) : static_cast<std::uint64_t>(d);
@@ -135,9 +158,9 @@ class Q16 {
 
   constexpr Q16() = default;
   // The value raw / 2^16, bit for bit.
-  static constexpr Q16 from_raw(std::int32_t raw) { Q16 q; q.raw_ = raw; return q; }
+  static LS_HD constexpr Q16 from_raw(std::int32_t raw) { Q16 q; q.raw_ = raw; return q; }
   // An integer: exact when |i| <= 32767, otherwise clamped with kQ16Overflow.
-  static Q16 from_int(std::int64_t i) {
+  static LS_HD Q16 from_int(std::int64_t i) {
     if (i > 32767) return from_raw(q16detail::saturate(q16detail::kMax + 1));
     if (i < -32768) return from_raw(q16detail::saturate(q16detail::kMin - 1));
     return from_raw(static_cast<std::int32_t>(i * kOneRaw));
@@ -145,14 +168,21 @@ class Q16 {
   // eq 22: R = round(x * 2^16), to nearest, ties to even. NaN -> 0 with
   // kQ16Invalid; out of range (or +-inf) -> clamped with kQ16Overflow.
   // Inline: a constant (0.5, 1/64) folds at compile time.
-  static Q16 from_double(double x);
+  static LS_HD Q16 from_double(double x);
 
-  constexpr std::int32_t raw() const { return raw_; }
+  LS_HD constexpr std::int32_t raw() const { return raw_; }
   // Exact: every Q16 value is a double.
-  constexpr double to_double() const { return static_cast<double>(raw_) / 65536.0; }
-  constexpr float to_float() const { return static_cast<float>(to_double()); }
+  LS_HD constexpr double to_double() const { return static_cast<double>(raw_) / 65536.0; }
+  LS_HD constexpr float to_float() const { return static_cast<float>(to_double()); }
 
-  friend constexpr bool operator==(Q16 a, Q16 b) = default;
+  // The comparisons by name (host and device code; <=> alone would go
+  // through std::strong_ordering, host code), and <=> for the rest.
+  friend LS_HD constexpr bool operator==(Q16 a, Q16 b) { return a.raw_ == b.raw_; }
+  friend LS_HD constexpr bool operator!=(Q16 a, Q16 b) { return a.raw_ != b.raw_; }
+  friend LS_HD constexpr bool operator<(Q16 a, Q16 b) { return a.raw_ < b.raw_; }
+  friend LS_HD constexpr bool operator>(Q16 a, Q16 b) { return a.raw_ > b.raw_; }
+  friend LS_HD constexpr bool operator<=(Q16 a, Q16 b) { return a.raw_ <= b.raw_; }
+  friend LS_HD constexpr bool operator>=(Q16 a, Q16 b) { return a.raw_ >= b.raw_; }
   friend constexpr auto operator<=>(Q16 a, Q16 b) { return a.raw_ <=> b.raw_; }
 
   // Exact sum, clamped. (With the overflow builtins: the int32 sum, and the
@@ -196,16 +226,16 @@ class Q16 {
     return from_raw(q16detail::saturate(
         q16detail::round_div(std::int64_t{a.raw_} * kOneRaw, b.raw_)));
   }
-  Q16& operator+=(Q16 b) { return *this = *this + b; }
-  Q16& operator-=(Q16 b) { return *this = *this - b; }
-  Q16& operator*=(Q16 b) { return *this = *this * b; }
-  Q16& operator/=(Q16 b) { return *this = *this / b; }
+  LS_HD Q16& operator+=(Q16 b) { return *this = *this + b; }
+  LS_HD Q16& operator-=(Q16 b) { return *this = *this - b; }
+  LS_HD Q16& operator*=(Q16 b) { return *this = *this * b; }
+  LS_HD Q16& operator/=(Q16 b) { return *this = *this / b; }
 
  private:
   std::int32_t raw_ = 0;
 };
 
-inline Q16 Q16::from_double(double x) {
+LS_HD inline Q16 Q16::from_double(double x) {
   if (std::isnan(x)) {
     q16detail::raise(kQ16Invalid);
     return Q16{};
@@ -227,20 +257,20 @@ inline Q16 Q16::from_double(double x) {
 }
 
 // |a|; abs(INT32_MIN raw) clamps to INT32_MAX with kQ16Overflow.
-inline Q16 abs(Q16 a) { return a.raw() < 0 ? -a : a; }
-constexpr Q16 min(Q16 a, Q16 b) { return b < a ? b : a; }
-constexpr Q16 max(Q16 a, Q16 b) { return a < b ? b : a; }
+LS_HD inline Q16 abs(Q16 a) { return a.raw() < 0 ? -a : a; }
+LS_HD constexpr Q16 min(Q16 a, Q16 b) { return b < a ? b : a; }
+LS_HD constexpr Q16 max(Q16 a, Q16 b) { return a < b ? b : a; }
 // round(sqrt(R * 2^16)): the exact square root, rounded to nearest (Fix 11;
 // never a tie). sqrt(x < 0) = 0 with kQ16SqrtNegative. Never overflows
 // (sqrt(2^47) < 2^24).
-inline Q16 sqrt(Q16 a) {
+LS_HD inline Q16 sqrt(Q16 a) {
   if (a.raw() < 0) { q16detail::raise(kQ16SqrtNegative); return Q16{}; }
   return Q16::from_raw(static_cast<std::int32_t>(
       q16detail::isqrt_round(static_cast<std::uint64_t>(a.raw()) << 16)));
 }
 // 1 / a, same rule as division.
-inline Q16 reciprocal(Q16 a) { return Q16::from_raw(Q16::kOneRaw) / a; }
+LS_HD inline Q16 reciprocal(Q16 a) { return Q16::from_raw(Q16::kOneRaw) / a; }
 // floor(a): the largest integer <= a, as an int (exact, never overflows).
-constexpr std::int32_t floor_to_int(Q16 a) { return a.raw() >> 16; }
+LS_HD constexpr std::int32_t floor_to_int(Q16 a) { return a.raw() >> 16; }
 
 }  // namespace lockstep

@@ -9,17 +9,17 @@ template <>
 struct Num<Q16> {
   static constexpr bool kExact = true;
   static constexpr const char* kName = "fixed";
-  static Q16 from_double(double x) { return Q16::from_double(x); }
-  static constexpr Q16 from_raw_q16(std::int32_t raw) { return Q16::from_raw(raw); }
-  static Q16 from_int(int i) { return Q16::from_int(i); }
-  static double to_double(Q16 x) { return x.to_double(); }
-  static Q16 sqrt(Q16 x) { return lockstep::sqrt(x); }
-  static Q16 abs(Q16 x) { return lockstep::abs(x); }
-  static Q16 min(Q16 a, Q16 b) { return lockstep::min(a, b); }
-  static Q16 max(Q16 a, Q16 b) { return lockstep::max(a, b); }
-  static int floor_int(Q16 x) { return floor_to_int(x); }
-  static bool finite(Q16) { return true; }
-  static std::uint32_t take_faults() { return q16_take_status(); }
+  static LS_HD Q16 from_double(double x) { return Q16::from_double(x); }
+  static LS_HD constexpr Q16 from_raw_q16(std::int32_t raw) { return Q16::from_raw(raw); }
+  static LS_HD Q16 from_int(int i) { return Q16::from_int(i); }
+  static LS_HD double to_double(Q16 x) { return x.to_double(); }
+  static LS_HD Q16 sqrt(Q16 x) { return lockstep::sqrt(x); }
+  static LS_HD Q16 abs(Q16 x) { return lockstep::abs(x); }
+  static LS_HD Q16 min(Q16 a, Q16 b) { return lockstep::min(a, b); }
+  static LS_HD Q16 max(Q16 a, Q16 b) { return lockstep::max(a, b); }
+  static LS_HD int floor_int(Q16 x) { return floor_to_int(x); }
+  static LS_HD bool finite(Q16) { return true; }
+  static LS_HD std::uint32_t take_faults() { return q16_take_status(); }
 };
 
 }  // namespace lockstep

@@ -22,7 +22,7 @@ class Q16Accumulator {
   LOCKSTEP_Q16_INLINE void add_product(std::int32_t a, std::int32_t b) { add(std::int64_t{a} * b); }
   LOCKSTEP_Q16_INLINE void sub_product(std::int32_t a, std::int32_t b) { add(-(std::int64_t{a} * b)); }
   // Adds a raw value r (scale 2^16) exactly: r * 2^16 in product scale.
-  void add_raw(std::int32_t r) { high_ += r; }
+  LS_HD void add_raw(std::int32_t r) { high_ += r; }
   // round(sum / 2^16), to nearest, ties to even, as an exact int64: the sum
   // is high_ 2^16 + low_ with low_ >= 0, so its floor is high_ + (low_ >> 16)
   // and the dropped bits are low_ & 0xFFFF.
@@ -96,7 +96,7 @@ LOCKSTEP_Q16_INLINE Vec3<Q16> cross(const Vec3<Q16>& a, const Vec3<Q16>& b) {
           q16detail::diff2(a.x.raw(), b.y.raw(), a.y.raw(), b.x.raw())};
 }
 // Sum of squared raw components, exact in uint64 (3 * 2^62 < 2^64).
-inline std::uint64_t raw_length_sq(const Vec3<Q16>& a) {
+LS_HD inline std::uint64_t raw_length_sq(const Vec3<Q16>& a) {
   auto sq = [](Q16 v) {
     const std::int64_t r = v.raw();
     return static_cast<std::uint64_t>(r * r);
@@ -104,14 +104,14 @@ inline std::uint64_t raw_length_sq(const Vec3<Q16>& a) {
   return sq(a.x) + sq(a.y) + sq(a.z);
 }
 // |a|^2 = round(sum R_i^2 / 2^16), to nearest, ties to even, clamped.
-inline Q16 length_sq(const Vec3<Q16>& a) {
+LS_HD inline Q16 length_sq(const Vec3<Q16>& a) {
   const std::uint64_t full = raw_length_sq(a), q = full >> 16, r = full & 0xFFFF;
   const std::uint64_t s = q + ((r > 0x8000 || (r == 0x8000 && (q & 1) != 0)) ? 1 : 0);
   return Q16::from_raw(q16detail::saturate(s > 0x7FFFFFFFull ? q16detail::kMax + 1
                                                              : static_cast<std::int64_t>(s)));
 }
 // |a| = round(sqrt(sum R_i^2)) exactly (one rounding, to nearest), clamped.
-inline Q16 length(const Vec3<Q16>& a) {
+LS_HD inline Q16 length(const Vec3<Q16>& a) {
   const std::uint64_t r = q16detail::isqrt_round(raw_length_sq(a));
   return Q16::from_raw(q16detail::saturate(static_cast<std::int64_t>(r)));
 }
@@ -124,7 +124,7 @@ inline Q16 length(const Vec3<Q16>& a) {
 // Where it is false, sqrt(S) < 2^31 and length(a) raises nothing. A negative
 // limit is exceeded by every length. (At L = INT32_MAX, where length(a)
 // itself overflows to INT32_MAX, it says true.)
-inline bool longer_than(const Vec3<Q16>& a, const Q16& limit) {
+LS_HD inline bool longer_than(const Vec3<Q16>& a, const Q16& limit) {
   if (limit.raw() < 0) return true;
   const auto l = static_cast<std::uint64_t>(limit.raw());
   return raw_length_sq(a) > l * (l + 1);
@@ -135,7 +135,7 @@ inline bool longer_than(const Vec3<Q16>& a, const Q16& limit) {
 // within 257 ulp for |a| >= 2^-8 (measured 252: a tiny vector's length has few
 // bits). |n_i| <= 2^16, so it never clamps. A zero vector raises
 // kQ16NormalizeZero and returns zero.
-inline Vec3<Q16> normalize(const Vec3<Q16>& a) {
+LS_HD inline Vec3<Q16> normalize(const Vec3<Q16>& a) {
   const std::uint64_t len = q16detail::isqrt_round(raw_length_sq(a));
   if (len == 0) {
     q16detail::raise(kQ16NormalizeZero);
@@ -152,7 +152,7 @@ inline Vec3<Q16> normalize(const Vec3<Q16>& a) {
 // values (and status flags) as the two, from one square root: length(a) is
 // the clamp of round(sqrt(sum R_i^2)), which is > 0 exactly when that root
 // is, and normalize divides by the same root.
-inline bool direction_of(const Vec3<Q16>& a, Vec3<Q16>& unit) {
+LS_HD inline bool direction_of(const Vec3<Q16>& a, Vec3<Q16>& unit) {
   const std::uint64_t len = q16detail::isqrt_round(raw_length_sq(a));
   if (q16detail::saturate(static_cast<std::int64_t>(len)) <= 0) return false;
   const auto l = static_cast<std::int64_t>(len);
@@ -163,7 +163,7 @@ inline bool direction_of(const Vec3<Q16>& a, Vec3<Q16>& unit) {
   return true;
 }
 // Hamilton product: each component an exact sum of 4 products, one floor.
-inline Quat<Q16> operator*(const Quat<Q16>& a, const Quat<Q16>& b) {
+LS_HD inline Quat<Q16> operator*(const Quat<Q16>& a, const Quat<Q16>& b) {
   Q16Accumulator w, x, y, z;
   w.add_product(a.w.raw(), b.w.raw()); w.sub_product(a.x.raw(), b.x.raw());
   w.sub_product(a.y.raw(), b.y.raw()); w.sub_product(a.z.raw(), b.z.raw());
@@ -175,7 +175,7 @@ inline Quat<Q16> operator*(const Quat<Q16>& a, const Quat<Q16>& b) {
   z.sub_product(a.y.raw(), b.x.raw()); z.add_product(a.z.raw(), b.w.raw());
   return {w.result(), x.result(), y.result(), z.result()};
 }
-inline Q16 quat_length_sq(const Quat<Q16>& q) {
+LS_HD inline Q16 quat_length_sq(const Quat<Q16>& q) {
   Q16Accumulator acc;
   acc.add_product(q.w.raw(), q.w.raw());
   acc.add_product(q.x.raw(), q.x.raw());
@@ -189,7 +189,7 @@ inline Q16 quat_length_sq(const Quat<Q16>& q) {
 // input is changed). Same bound as for vectors: < 1 + 2^16/L ulp per component,
 // < 2 ulp for |q| >= 1 (measured worst 1.97). The zero quaternion raises
 // kQ16NormalizeZero and returns the identity.
-inline Quat<Q16> normalize(const Quat<Q16>& q) {
+LS_HD inline Quat<Q16> normalize(const Quat<Q16>& q) {
   auto lift = [](Q16 v) { return v.raw() == INT32_MIN ? -std::int64_t{INT32_MAX} : std::int64_t{v.raw()}; };
   const std::int64_t c[4] = {lift(q.w), lift(q.x), lift(q.y), lift(q.z)};
   std::uint64_t s = 0;
@@ -214,7 +214,7 @@ inline Quat<Q16> normalize(const Quat<Q16>& q) {
 // diagonal and < 1 + |N - 1| off it. For q = normalize(p), |p| >= 1 (or q a
 // correctly rounded unit quaternion), |N - 1| < 6.0002 ulp: < 13.0003 ulp
 // diagonal, < 7.0002 ulp off-diagonal (measured worst 9.70 and 5.04).
-inline Mat3<Q16> rotation_matrix(const Quat<Q16>& q) {
+LS_HD inline Mat3<Q16> rotation_matrix(const Quat<Q16>& q) {
   const std::int32_t w = q.w.raw(), x = q.x.raw(), y = q.y.raw(), z = q.z.raw();
   auto diag = [](std::int32_t a, std::int32_t b) {  // 1 - 2(a^2 + b^2)
     Q16Accumulator acc;
@@ -249,6 +249,6 @@ LOCKSTEP_Q16_INLINE Vec3<Q16> mat_transpose_mul(const Mat3<Q16>& m, const Vec3<Q
 // Against the exact rotation of v by q/|q|, for q as above (|N - 1| < 6.0002
 // ulp): < 1 + ||v||_1 + 2|N - 1||v| ulp, i.e. < 14.8 ulp for |v| <= 1 (measured
 // worst 6.2) and growing with |v| (measured (err - 1)/|v| <= 8.4).
-inline Vec3<Q16> rotate(const Quat<Q16>& q, const Vec3<Q16>& v) { return rotation_matrix(q) * v; }
+LS_HD inline Vec3<Q16> rotate(const Quat<Q16>& q, const Vec3<Q16>& v) { return rotation_matrix(q) * v; }
 
 }  // namespace lockstep

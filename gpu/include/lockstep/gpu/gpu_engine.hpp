@@ -1,5 +1,6 @@
-// The GPU engine: the float physics of World<float>, scheduled data-parallel
-// (docs/GPU.md). One source serves two builds: CUDA kernels on a device, and
+// The GPU engine: the physics of World<T>, scheduled data-parallel
+// (docs/GPU.md), on float ("gpu": World<float>'s bits) or on Q16.16
+// ("gpu-fixed": World<Q16>'s bits, docs/GPU.md "gpu-fixed"). One source serves two builds: CUDA kernels on a device, and
 // the host build, whose loops call the same per-element functions. A
 // GpuWorld picks the device when one is present and the library was built
 // with CUDA, and otherwise runs the host build and says so in description().
@@ -12,6 +13,7 @@
 #include <vector>
 
 #include "lockstep/compare/engine.hpp"
+#include "lockstep/fixed/q16.hpp"
 #include "lockstep/input.hpp"
 #include "lockstep/scene.hpp"
 #include "lockstep/world.hpp"
@@ -23,8 +25,12 @@ namespace lockstep {
 // (GpuOptions::PairSolver::kJacobi, name() "gpu-jacobi").
 // `quiet`: no note on stderr when it falls back to the host build.
 std::unique_ptr<EngineRun> make_gpu_engine(const Scene& scene, bool jacobi = false, bool quiet = false);
-// The "gpu" (or "gpu-jacobi") engine resumed from its snapshot
-// (GpuWorld::load_state), and the snapshot's scene. Throws SnapshotError.
+// The "gpu-fixed" engine: the same pipeline on Q16.16 (GpuFixedWorld),
+// World<Q16>'s bits; with `jacobi`, "gpu-fixed-jacobi".
+std::unique_ptr<EngineRun> make_gpu_fixed_engine(const Scene& scene, bool jacobi = false, bool quiet = false);
+// The "gpu" or "gpu-fixed" engine (or its Jacobi variant) resumed from its
+// snapshot (number type 5 or 6; BasicGpuWorld::load_state), and the
+// snapshot's scene. Throws SnapshotError.
 ResumedEngine resume_gpu_engine(const std::vector<std::uint8_t>& bytes, bool quiet = false);
 
 namespace gpu {
@@ -107,19 +113,25 @@ double measure_copy_bandwidth(std::size_t bytes, int repetitions);
 // no effect without a device.
 void profiler_capture(bool on);
 
-class GpuWorld {
+// The engine on the number type T: float (GpuWorld, "gpu") or Q16
+// (GpuFixedWorld, "gpu-fixed"); one pipeline source for both (gpu/src).
+template <class T>
+class BasicGpuWorld {
  public:
-  explicit GpuWorld(const Scene& scene, const GpuOptions& options = {});
-  ~GpuWorld();
-  GpuWorld(const GpuWorld&) = delete;
-  GpuWorld& operator=(const GpuWorld&) = delete;
+  explicit BasicGpuWorld(const Scene& scene, const GpuOptions& options = {});
+  ~BasicGpuWorld();
+  BasicGpuWorld(const BasicGpuWorld&) = delete;
+  BasicGpuWorld& operator=(const BasicGpuWorld&) = delete;
 
-  void step();  // throws RunError on a non-finite value (like World<float>)
+  // Throws RunError on a non-finite value (float, like World<float>) or a
+  // Q16 fault (Q16, like World<Q16>: the frame, the first body by index
+  // with a fault in the first stage that had one, and its quantity).
+  void step();
   int frame() const;
   int body_count() const;
   int awake_count() const;  // awake bodies after the last step
   bool on_device() const;
-  std::string description() const;  // "gpu: CUDA on <device>" or "gpu (host build: ...)"
+  std::string description() const;  // "gpu[-fixed]: CUDA on <device>" or "gpu[-fixed] (host build: ...)"
   const StageCounters& counters() const;
   StageTimes stage_times() const;
   void reset_stage_times();
@@ -135,15 +147,15 @@ class GpuWorld {
   // State of body i after the last step (downloaded once per frame), or as
   // the inputs since left it.
   BodySnapshot body(int i) const;
-  std::uint64_t state_hash() const;  // eq 92 over the IEEE binary64 bits, like World<float>
-  double energy() const;             // (J), evaluated in double like World<float>
+  std::uint64_t state_hash() const;  // eq 92 as World<T>: binary64 bits (float), raw int32 (Q16)
+  double energy() const;             // (J), evaluated in double like World<T>
   // The scene (after load_state: the snapshot's, its bodies' initial state
   // the saved state).
   const Scene& scene() const;
   bool jacobi() const;  // the Jacobi pair solver (GpuOptions::PairSolver::kJacobi)
 
   // Snapshots (docs/SNAPSHOTS.md "The GPU engine"): the header and scene
-  // section of World<T>'s snapshots (number type 5, gpu), then everything the
+  // section of World<T>'s snapshots (number type 5, gpu; 6, gpu-fixed), then everything the
   // engine's following frames read: per body its pose, velocities, AABB,
   // sleep state, growth and eq 108's records; the awake list in its order;
   // the last frame's contacts by slot with their impulses (the warm start,
@@ -156,7 +168,7 @@ class GpuWorld {
   // A world from a snapshot alone (the pair solver is the snapshot's; the
   // backend as `options` asks). Throws SnapshotError for a truncated,
   // corrupt or foreign snapshot, naming the field.
-  static std::unique_ptr<GpuWorld> load_state(const std::uint8_t* data, std::size_t size, const GpuOptions& options = {});
+  static std::unique_ptr<BasicGpuWorld> load_state(const std::uint8_t* data, std::size_t size, const GpuOptions& options = {});
   // Replaces this world's state; when the snapshot's scene section is this
   // world's, only the state is read (rollback), else the world is rebuilt.
   // Throws SnapshotError (then this world is unchanged).
@@ -167,6 +179,11 @@ class GpuWorld {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+using GpuWorld = BasicGpuWorld<float>;
+using GpuFixedWorld = BasicGpuWorld<Q16>;
+extern template class BasicGpuWorld<float>;
+extern template class BasicGpuWorld<Q16>;
 
 }  // namespace gpu
 }  // namespace lockstep
