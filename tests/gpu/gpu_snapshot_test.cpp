@@ -38,10 +38,11 @@ GpuOptions host(bool jacobi = false) {
 // `w` saved, then resumed twice (restore_state into `other`, a world of the
 // same scene at another frame, and load_state from the bytes alone): each
 // steps `frames` frames to w's hashes and ends with w's snapshot bytes.
-::testing::AssertionResult resumes(GpuWorld& w, GpuWorld& other, int frames) {
+template <class World>
+::testing::AssertionResult resumes(World& w, World& other, int frames) {
   const std::vector<std::uint8_t> bytes = w.save_state();
   other.restore_state(bytes.data(), bytes.size());
-  std::unique_ptr<GpuWorld> loaded = GpuWorld::load_state(bytes.data(), bytes.size(), host());
+  std::unique_ptr<World> loaded = World::load_state(bytes.data(), bytes.size(), host());
   if (other.save_state() != bytes) return ::testing::AssertionFailure() << "restore_state then save_state: other bytes";
   if (loaded->save_state() != bytes) return ::testing::AssertionFailure() << "load_state then save_state: other bytes";
   for (int f = 0; f < frames; ++f) {
@@ -69,6 +70,39 @@ TEST(GpuSnapshot, BuiltinScenesResume) {
       for (int f = 0; f < 3; ++f) other.step();
       EXPECT_TRUE(resumes(w, other, 40)) << name << " saved at frame " << save;
     }
+  }
+}
+
+// gpu-fixed (docs/GPU.md "gpu-fixed"): its snapshots (number type 6, each
+// value's raw Q16.16) resume bit for bit; a gpu snapshot is refused by
+// gpu-fixed and the other way round, naming the header's number type.
+TEST(GpuSnapshot, FixedScenesResume) {
+  for (const char* name : {"stack5", "pyramid", "bowl", "terrain"}) {
+    const Scene scene = *builtin_scene(name);
+    for (int save : {0, 9, 30}) {
+      gpu::GpuFixedWorld w(scene, host());
+      for (int f = 0; f < save; ++f) w.step();
+      gpu::GpuFixedWorld other(scene, host());
+      for (int f = 0; f < 3; ++f) other.step();
+      EXPECT_TRUE(resumes(w, other, 40)) << name << " saved at frame " << save;
+    }
+  }
+  const Scene scene = *builtin_scene("stack5");
+  GpuWorld f(scene, host());
+  gpu::GpuFixedWorld q(scene, host());
+  const std::vector<std::uint8_t> fb = f.save_state(), qb = q.save_state();
+  try {
+    (void)gpu::GpuFixedWorld::load_state(fb.data(), fb.size(), host());
+    ADD_FAILURE() << "a gpu snapshot loaded into gpu-fixed";
+  } catch (const SnapshotError& e) {
+    EXPECT_EQ(e.field, "header.number_type");
+    EXPECT_NE(std::string(e.what()).find("the gpu engine cannot be loaded into the gpu-fixed engine"), std::string::npos) << e.what();
+  }
+  try {
+    f.restore_state(qb.data(), qb.size());
+    ADD_FAILURE() << "a gpu-fixed snapshot restored into gpu";
+  } catch (const SnapshotError& e) {
+    EXPECT_EQ(e.field, "header.number_type");
   }
 }
 
