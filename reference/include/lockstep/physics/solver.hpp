@@ -126,15 +126,21 @@ struct ContactRows {
   T m_n{};                 // 1 / k_n (kg)
   T k_t[3]{};              // eq 129: K_t as {k11, k12, k22} (1/kg)
 };
+// The normal half of contact_rows (eq 114 and m_n) and the tangent half
+// (eqs 128-129), each alone: a device visit forms the half a step reads where
+// it reads it (the same values as contact_rows').
 template <class T>
-LS_HD_INLINE ContactRows<T> contact_rows(const BodyView<T>& A, const Vec3<T>& r1, const BodyView<T>& B,
-                                         const Vec3<T>& r2, const Vec3<T>& n, const T& k_n) {
-  ContactRows<T> w;
+LS_HD_INLINE void normal_rows(ContactRows<T>& w, const BodyView<T>& A, const Vec3<T>& r1, const BodyView<T>& B,
+                              const Vec3<T>& r2, const Vec3<T>& n, const T& k_n) {
   w.rn1 = cross(r1, n);  // eq 51
   w.rn2 = cross(r2, n);
   w.an1 = apply_inverse_inertia(A.R, A.inv_inertia, w.rn1);
   w.an2 = apply_inverse_inertia(B.R, B.inv_inertia, w.rn2);
-  if (k_n > T{}) w.m_n = Num<T>::from_int(1) / k_n;
+  w.m_n = k_n > T{} ? Num<T>::from_int(1) / k_n : T{};
+}
+template <class T>
+LS_HD_INLINE void tangent_rows(ContactRows<T>& w, const BodyView<T>& A, const Vec3<T>& r1, const BodyView<T>& B,
+                               const Vec3<T>& r2, const Vec3<T>& n) {
   tangent_basis(n, w.t[0], w.t[1]);  // eq 128
   for (int a = 0; a < 2; ++a) {
     w.rt1[a] = cross(r1, w.t[a]);
@@ -146,6 +152,13 @@ LS_HD_INLINE ContactRows<T> contact_rows(const BodyView<T>& A, const Vec3<T>& r1
   w.k_t[0] = lin + dot(w.rt1[0], w.at1[0]) + dot(w.rt2[0], w.at2[0]);
   w.k_t[1] = dot(w.rt1[0], w.at1[1]) + dot(w.rt2[0], w.at2[1]);
   w.k_t[2] = lin + dot(w.rt1[1], w.at1[1]) + dot(w.rt2[1], w.at2[1]);
+}
+template <class T>
+LS_HD_INLINE ContactRows<T> contact_rows(const BodyView<T>& A, const Vec3<T>& r1, const BodyView<T>& B,
+                                         const Vec3<T>& r2, const Vec3<T>& n, const T& k_n) {
+  ContactRows<T> w;
+  normal_rows(w, A, r1, B, r2, n, k_n);
+  tangent_rows(w, A, r1, B, r2, n);
   return w;
 }
 // eqs 48-49 along n through the rows (eq 114): v_n = (v1 - v2).n + w1.(r1 x n) - w2.(r2 x n).
@@ -236,30 +249,40 @@ LS_HD_INLINE T gravity_pressing(const BodyView<T>& B, const Vec3<T>& n, bool gra
 // with R = max_k |dj_k| and w_k = dj_k / R, a = sum_k w_k res_k (res_k =
 // target_k - v_n,k) and b = sum_k w_k (n_k . dv_k), dv_k the velocity change
 // at point k that all the proposals cause together (the normal velocity of
-// the sides at rest after them). Point k's eq 87 velocity changes are kept
-// in deltas[k], and formed[k] tells whether they were formed (dj_k != 0).
-template <int N, class T, class Row>
-LS_HD_INLINE T normal_manifold_step(const BodyView<T>& A, const BodyView<T>& B, const bool* ok, const Vec3<T>* n,
-                                    const Row& row, const T* dj, const T* res, int end, ImpulseDelta<T>* deltas,
-                                    bool* formed) {
+// the sides at rest after them). `normal(k, n)`: whether point k is a contact
+// (and its normal n); `row(k)`: its rows. With `deltas`, point k's eq 87
+// velocity changes are kept in deltas[k]; formed[k] tells whether they were
+// formed (dj_k != 0).
+template <int N, class T, class Normal, class Row>
+LS_HD_INLINE T normal_manifold_step(const BodyView<T>& A, const BodyView<T>& B, const Normal& normal, const Row& row,
+                                    const T* dj, const T* res, int end, ImpulseDelta<T>* deltas, bool* formed) {
   BodyView<T> Z = A, Zb = B;  // the sides at rest: they gather the proposals' velocity change
   Z.v = Z.w = Zb.v = Zb.w = Vec3<T>{};
   T reach{};
+#if defined(__CUDA_ARCH__)
+#pragma unroll 1
+#endif
   for (int k = 0; k < end; ++k) {
     formed[k] = false;
-    if (dj[k] == T{} || !ok[k]) continue;
-    deltas[k] = normal_delta(Z, Zb, row(k), n[k], dj[k]);
-    apply_delta(Z, Zb, deltas[k]);
+    Vec3<T> n;
+    if (dj[k] == T{} || !normal(k, n)) continue;
+    const ImpulseDelta<T> dl = normal_delta(Z, Zb, row(k), n, dj[k]);
+    apply_delta(Z, Zb, dl);
+    if (deltas != nullptr) deltas[k] = dl;
     formed[k] = true;
     reach = Num<T>::max(reach, Num<T>::abs(dj[k]));
   }
   if (!(reach > T{})) return Num<T>::from_int(1);
   T a{}, b{};
+#if defined(__CUDA_ARCH__)
+#pragma unroll 1
+#endif
   for (int k = 0; k < end; ++k) {
-    if (!formed[k]) continue;
+    Vec3<T> n;
+    if (!formed[k] || !normal(k, n)) continue;
     const T w = dj[k] / reach;  // in [-1, 1]
     a += w * res[k];
-    b += w * normal_velocity(Z, Zb, row(k), n[k]);
+    b += w * normal_velocity(Z, Zb, row(k), n);
   }
   return manifold_step_length(a, b);
 }
@@ -269,27 +292,34 @@ LS_HD_INLINE T normal_manifold_step(const BodyView<T>& A, const BodyView<T>& B, 
 // R = max_k max_abs(dJ_k) and w_k,a = (dJ_k . t_k,a) / R, a = -sum_k w_k . vt_k
 // (the pull: the sliding velocities at the step's start) and
 // b = sum_k w_k . dvt_k, dvt_k the tangent velocity change at point k that
-// all the proposals cause together. deltas and formed as normal_manifold_step's.
+// all the proposals cause together. `row(k)`: point k's rows (a point with
+// dJ_k != 0 is a contact); deltas and formed as normal_manifold_step's.
 template <int N, class T, class Row>
-LS_HD_INLINE T friction_manifold_step(const BodyView<T>& A, const BodyView<T>& B, const bool* ok, const Row& row,
-                                      const Vec3<T>* dJ, const T* vt0, const T* vt1, int end,
-                                      ImpulseDelta<T>* deltas, bool* formed) {
+LS_HD_INLINE T friction_manifold_step(const BodyView<T>& A, const BodyView<T>& B, const Row& row, const Vec3<T>* dJ,
+                                      const T* vt0, const T* vt1, int end, ImpulseDelta<T>* deltas, bool* formed) {
   BodyView<T> Z = A, Zb = B;  // the sides at rest: they gather the proposals' velocity change
   Z.v = Z.w = Zb.v = Zb.w = Vec3<T>{};
   T reach{};
+#if defined(__CUDA_ARCH__)
+#pragma unroll 1
+#endif
   for (int k = 0; k < end; ++k) {
     formed[k] = false;
-    if (!ok[k] || dJ[k] == Vec3<T>{}) continue;
-    deltas[k] = tangent_delta(Z, Zb, row(k), dJ[k]);
-    apply_delta(Z, Zb, deltas[k]);
+    if (dJ[k] == Vec3<T>{}) continue;
+    const ImpulseDelta<T> dl = tangent_delta(Z, Zb, row(k), dJ[k]);
+    apply_delta(Z, Zb, dl);
+    if (deltas != nullptr) deltas[k] = dl;
     formed[k] = true;
     reach = Num<T>::max(reach, max_abs(dJ[k]));
   }
   if (!(reach > T{})) return Num<T>::from_int(1);
   T a{}, b{};
+#if defined(__CUDA_ARCH__)
+#pragma unroll 1
+#endif
   for (int k = 0; k < end; ++k) {
     if (!formed[k]) continue;
-    const ContactRows<T>& w = row(k);
+    const auto& w = row(k);
     const T w0 = dot(dJ[k], w.t[0]) / reach, w1 = dot(dJ[k], w.t[1]) / reach;  // in [-1.8, 1.8]
     T dvt[2];
     tangent_velocity(Z, Zb, w, dvt);
@@ -378,88 +408,153 @@ LS_HD void solve_manifold_rows(BodyView<T>& A, BodyView<T>& B, const Point& poin
                                const T* split_given = nullptr) {
   const T one = Num<T>::from_int(1);
   const T half = Num<T>::from_double(0.5);  // eq 113: a step shortened below it is partial progress
-  // Rows given by reference (World<T>'s, formed once per frame) are read in
-  // place; rows formed by row_at are formed once here.
+  // Host builds keep what the visit reads again: each point's normal,
+  // penetration, state and rows (read in place when row_at gives a
+  // reference: World<T>'s, formed once per frame), and eq 87's velocity
+  // changes as the steps formed them. Float device builds keep none of it
+  // (a thread's local memory costs more than forming again: on an H200 the
+  // float engine's 10^6 frame took 32.8 ms with the rows kept, 21.9 formed
+  // again): they read the point and its state where they need them and form
+  // the half of its rows a step reads (normal_rows, tangent_rows). Q16 on a
+  // device keeps them (its roots and divisions are 64-bit integer work:
+  // gpu-fixed's frame took 74 ms kept, 103 formed again). The same values
+  // either way, so the same bits.
+#if defined(__CUDA_ARCH__)
+  constexpr bool kCache = !std::is_floating_point_v<T>;
+#else
+  constexpr bool kCache = true;
+#endif
   constexpr bool kRowsInPlace = std::is_reference_v<decltype(row_at(0))>;
-  Scratch<Vec3<T>, N> pn;
-  Scratch<T, N> ppen;
-  Scratch<ContactState<T>, N> pst;
-  Scratch<ContactRows<T>, kRowsInPlace ? 1 : N> prow;
-  const ContactRows<T>* rows[N] = {};
-  bool pok[N];
-  auto row = [&](int k) -> const ContactRows<T>& { return *rows[k]; };
+  constexpr int M = kCache ? N : 1;
+  Scratch<Vec3<T>, M> pn;
+  Scratch<T, M> ppen;
+  Scratch<ContactState<T>, M> pst;
+  Scratch<ContactRows<T>, (kCache && !kRowsInPlace) ? N : 1> prow;
+  const ContactRows<T>* rows[M] = {};
+  bool pok[M];
+  // Point k's normal and penetration (false: not a contact).
+  auto point = [&](int k, Vec3<T>& n, T& penetration) -> bool {
+    if constexpr (kCache) {
+      if (!pok[k]) return false;
+      n = pn[k];
+      penetration = ppen[k];
+      return true;
+    } else {
+      Vec3<T> r1, r2;
+      return point_at(k, r1, r2, n, penetration);
+    }
+  };
+  auto normal = [&](int k, Vec3<T>& n) -> bool {
+    T penetration;
+    return point(k, n, penetration);
+  };
+  auto load = [&](int k) -> ContactState<T> {
+    if constexpr (kCache) return pst[k];
+    else return load_at(k);
+  };
   auto store = [&](int k, const ContactState<T>& st) {
-    pst[k] = st;
+    if constexpr (kCache) pst[k] = st;
     store_at(k, st);
+  };
+  // Point k's rows: the normal half (nrow) and the tangent half (trow).
+  auto formed_half = [&](int k, bool tangent) {
+    ContactRows<T> w;
+    Vec3<T> r1, r2, n;
+    T penetration;
+    point_at(k, r1, r2, n, penetration);
+    if (tangent) tangent_rows(w, A, r1, B, r2, n);  // reads the sides' masses, rotations, inertia: unchanged by the visit
+    else normal_rows(w, A, r1, B, r2, n, load_at(k).k_n);
+    return w;
+  };
+  auto nrow = [&](int k) -> decltype(auto) {
+    if constexpr (kCache) return static_cast<const ContactRows<T>&>(*rows[k]);
+    else return formed_half(k, false);
+  };
+  auto trow = [&](int k) -> decltype(auto) {
+    if constexpr (kCache) return static_cast<const ContactRows<T>&>(*rows[k]);
+    else return formed_half(k, true);
   };
   T split = one;  // eq 99
   int count = 0, end = 0;  // end: 1 + the last point that is a contact
   {
     T o{};
+#if defined(__CUDA_ARCH__)
+#pragma unroll 1
+#endif
     for (int k = 0; k < N; ++k) {
       Vec3<T> r1, r2, n;
       T penetration;
-      pok[k] = point_at(k, r1, r2, n, penetration);
-      if (!pok[k]) continue;
-      pn[k] = n;
-      ppen[k] = penetration;
-      pst[k] = load_at(k);
-      const T k_n = pst[k].k_n;
-      if (count == 0 && !(k_n > T{})) return;  // both sides immovable
+      const bool ok = point_at(k, r1, r2, n, penetration);
+      const ContactState<T> st = ok ? load_at(k) : ContactState<T>{};
+      if constexpr (kCache) {
+        pok[k] = ok;
+        if (ok) {
+          pn[k] = n, ppen[k] = penetration, pst[k] = st;
+          if constexpr (kRowsInPlace) {
+            rows[k] = &row_at(k);
+          } else {
+            prow[k] = row_at(k);
+            rows[k] = &prow[k];
+          }
+        }
+      }
+      if (!ok) continue;
+      if (count == 0 && !(st.k_n > T{})) return;  // both sides immovable
       ++count;
       end = k + 1;
-      if (split_given == nullptr) o += split_share(A.inv_mass, B.inv_mass, k_n);
+      if (split_given == nullptr) o += split_share(A.inv_mass, B.inv_mass, st.k_n);
     }
     if (count == 0) return;
     split = split_given != nullptr ? *split_given : manifold_split(o, count);
     if (!(k_scale == one)) split = split * k_scale;
   }
   const T inv_split = split == one ? one : one / split;  // eq 99: the effective masses' share
-  for (int k = 0; k < end; ++k) {
-    if (!pok[k]) continue;
-    if constexpr (kRowsInPlace) {
-      rows[k] = &row_at(k);
-    } else {
-      prow[k] = row_at(k);
-      rows[k] = &prow[k];
-    }
-  }
   Scratch<T, N> dj, res;
+#if defined(__CUDA_ARCH__)
+#pragma unroll 1
+#endif
   for (int k = 0; k < end; ++k) {
     dj[k] = res[k] = T{};
-    if (!pok[k]) continue;
-    const ContactState<T>& c = pst[k];
+    Vec3<T> n;
+    T penetration;
+    if (!point(k, n, penetration)) continue;
+    const ContactState<T> c = load(k);
     ++counts.solver_contacts;
-    const T v_n = normal_velocity(A, B, row(k), pn[k]);  // eqs 48-49 (eq 114), at the visit's start
+    const auto& w = nrow(k);
+    const T v_n = normal_velocity(A, B, w, n);  // eqs 48-49 (eq 114), at the visit's start
     // Only approaching contacts bounce (the fix of 3.1): the target -e v_n0 uses v_n0 <= 0.
-    const T target = contact_target_velocity(ppen[k], c.e, Num<T>::min(c.v_n0, T{}),
-                                             gravity_pressing(B, pn[k], gravity, P), P.dt, P.inv_dt);  // eq 97
+    const T target = contact_target_velocity(penetration, c.e, Num<T>::min(c.v_n0, T{}),
+                                             gravity_pressing(B, n, gravity, P), P.dt, P.inv_dt);  // eq 97
     T j_n = c.j_n;
-    dj[k] = accumulate_normal_impulse(j_n, v_n, target, row(k).m_n * inv_split);  // eqs 53, 94, 99
+    dj[k] = accumulate_normal_impulse(j_n, v_n, target, w.m_n * inv_split);  // eqs 53, 94, 99
     res[k] = target - v_n;
   }
-  // Eq 87's velocity changes as the step formed them, applied as they are
-  // when the step is 1 (the impulses unchanged).
-  Scratch<ImpulseDelta<T>, N> delta;
+  // kCache: eq 87's velocity changes as the step formed them, applied as
+  // they are when the step is 1 (the impulses unchanged).
+  Scratch<ImpulseDelta<T>, M> delta;
   bool formed[N];
   bool cached = false;
   if (count > 1) {
-    const T alpha = normal_manifold_step<N>(A, B, pok, pn.data(), row, dj.data(), res.data(), end, delta.data(),
-                                            formed);  // eqs 99, 114
+    const T alpha = normal_manifold_step<N>(A, B, normal, nrow, dj.data(), res.data(), end,
+                                            kCache ? delta.data() : nullptr, formed);  // eqs 99, 114
     if (alpha < one) {
       if (alpha < half) ++counts.shortened_steps;  // eq 113: less than half the proposals' change
       for (int k = 0; k < end; ++k) dj[k] = dj[k] * alpha;
     } else {
-      cached = true;
+      cached = kCache;
     }
   }
+#if defined(__CUDA_ARCH__)
+#pragma unroll 1
+#endif
   for (int k = 0; k < end; ++k) {
-    if (dj[k] == T{} || !pok[k]) continue;
-    ContactState<T> c = pst[k];
+    Vec3<T> n;
+    if (dj[k] == T{} || !normal(k, n)) continue;
+    ContactState<T> c = load(k);
     c.j_n += dj[k];  // eq 94: stays >= 0, alpha <= 1
     store(k, c);
-    if (cached && formed[k]) apply_delta(A, B, delta[k]);            // eq 87, as the step formed it
-    else apply_delta(A, B, normal_delta(A, B, row(k), pn[k], dj[k]));  // eqs 87, 114
+    if (cached && formed[k]) apply_delta(A, B, delta[k]);       // eq 87, as the step formed it
+    else apply_delta(A, B, normal_delta(A, B, nrow(k), n, dj[k]));  // eqs 87, 114
     ++counts.normal_impulses;
   }
   if (!friction) return;
@@ -471,51 +566,64 @@ LS_HD void solve_manifold_rows(BodyView<T>& A, BodyView<T>& B, const Point& poin
   // one engine and not in another). A single point does both in eq 95's one
   // step.
   if (count > 1) {
+#if defined(__CUDA_ARCH__)
+#pragma unroll 1
+#endif
     for (int k = 0; k < end; ++k) {
-      if (!pok[k]) continue;
-      ContactState<T> c = pst[k];
+      Vec3<T> n;
+      if (!normal(k, n)) continue;
+      ContactState<T> c = load(k);
       if (c.j_t == Vec3<T>{}) continue;
       const Vec3<T> inside = clamp_to_cone(c.j_t, c.mu * c.j_n);  // eq 95's clamp
       if (inside == c.j_t) continue;
       const Vec3<T> back = inside - c.j_t;
       c.j_t = inside;
       store(k, c);
-      apply_delta(A, B, tangent_delta(A, B, row(k), back));  // eqs 61-62, 87, 129
+      apply_delta(A, B, tangent_delta(A, B, trow(k), back));  // eqs 61-62, 87, 129
       ++counts.friction_steps;
     }
   }
   Scratch<Vec3<T>, N> dJ;
   Scratch<T, N> vt0, vt1;  // the sliding velocities at the step's start: its pull
+#if defined(__CUDA_ARCH__)
+#pragma unroll 1
+#endif
   for (int k = 0; k < end; ++k) {
     dJ[k] = Vec3<T>{};
-    if (!pok[k]) continue;
-    const ContactState<T>& c = pst[k];
+    vt0[k] = vt1[k] = T{};
+    Vec3<T> n;
+    if (!normal(k, n)) continue;
+    const ContactState<T> c = load(k);
     if (!(c.j_n > T{}) && c.j_t == Vec3<T>{}) continue;
+    const auto& w = trow(k);
     T vt[2];
-    tangent_velocity(A, B, row(k), vt);  // eqs 48, 56, 129
+    tangent_velocity(A, B, w, vt);  // eqs 48, 56, 129
     vt0[k] = vt[0];
     vt1[k] = vt[1];
     Vec3<T> j_t = c.j_t;
-    dJ[k] = accumulate_friction_impulse(j_t, vt, row(k), inv_split, c.mu, c.j_n);  // eqs 95, 99, 129
+    dJ[k] = accumulate_friction_impulse(j_t, vt, w, inv_split, c.mu, c.j_n);  // eqs 95, 99, 129
   }
   cached = false;
   if (count > 1) {
-    const T alpha = friction_manifold_step<N>(A, B, pok, row, dJ.data(), vt0.data(), vt1.data(), end, delta.data(),
-                                              formed);  // eqs 99, 129
+    const T alpha = friction_manifold_step<N>(A, B, trow, dJ.data(), vt0.data(), vt1.data(), end,
+                                              kCache ? delta.data() : nullptr, formed);  // eqs 99, 129
     if (alpha < one) {
       if (alpha < half) ++counts.shortened_steps;  // eq 113: less than half the proposals' change
       for (int k = 0; k < end; ++k) dJ[k] = dJ[k] * alpha;
     } else {
-      cached = true;
+      cached = kCache;
     }
   }
+#if defined(__CUDA_ARCH__)
+#pragma unroll 1
+#endif
   for (int k = 0; k < end; ++k) {
-    if (!pok[k] || dJ[k] == Vec3<T>{}) continue;
-    ContactState<T> c = pst[k];
+    if (dJ[k] == Vec3<T>{}) continue;
+    ContactState<T> c = load(k);
     c.j_t += dJ[k];
     store(k, c);
-    if (cached && formed[k]) apply_delta(A, B, delta[k]);      // eqs 61-62, 87, as the step formed it
-    else apply_delta(A, B, tangent_delta(A, B, row(k), dJ[k]));  // eqs 61-62, 87, 129
+    if (cached && formed[k]) apply_delta(A, B, delta[k]);       // eqs 61-62, 87, as the step formed it
+    else apply_delta(A, B, tangent_delta(A, B, trow(k), dJ[k]));  // eqs 61-62, 87, 129
     ++counts.friction_steps;
   }
 }
