@@ -1,8 +1,9 @@
 // The frame of the GPU engine (docs/GPU.md), written once over a backend B
 // that supplies buffers, a parallel for over n elements (a CUDA kernel or a
 // host loop), a stable radix sort, a prefix sum and a maximum. The kernels
-// are the functors of stages.hpp. Instantiated with HostBackend (host.cpp)
-// and, when built with CUDA, DeviceBackend (device.cu).
+// are the functors of stages.hpp. The number type T is float ("gpu") or Q16
+// ("gpu-fixed", docs/GPU.md "gpu-fixed"): instantiated for both with
+// HostBackend (host.cpp) and, when built with CUDA, DeviceBackend (device.cu).
 #pragma once
 #include <algorithm>
 #include <cstddef>

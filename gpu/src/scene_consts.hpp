@@ -1,5 +1,6 @@
 // The scene-wide values the GPU engine's kernels need (SceneConsts).
 #pragma once
+#include "fault_notes.hpp"
 #include "kernel_support.hpp"
 #include "lockstep/gpu/elements.hpp"
 #include "lockstep/gpu/soa.hpp"
@@ -23,7 +24,7 @@ struct SceneConsts {
   int n_large = 0;
   T relaxation = Num<T>::from_int(1);
   bool oriented = false;  // the oriented-box pair model (docs/SPEC.md 2.4, eqs 100-110); false: the source's AABB model
-  FaultSink faults;  // Q16 faults (kernel_support.hpp); unused for float
+  FaultSink faults;  // Q16 faults (fault_notes.hpp); unused for float
   const T* grow = nullptr;  // oriented-box model: per body, its growth this frame (eqs 97, 107); null: AABB model
   // eqs 97, 107: body i's tolerance for ground corners.
   LS_HD T immovable_tol(int i) const {

@@ -20,8 +20,8 @@
 //   commit_stages.hpp            stages 8-9: commit and sleep (CommitSleepK)
 //   sleep_stages.hpp             stages 2a and 9, oriented-box model: eqs 108-109
 //   load_stages.hpp, sleeper_load_stages.hpp   eqs 117 and 124
-// with what they share in scene_consts.hpp, contact_records.hpp, solver_data.hpp
-// and kernel_support.hpp; oriented_stages.hpp says how the oriented-box
+// with what they share in scene_consts.hpp, contact_records.hpp, solver_data.hpp,
+// kernel_support.hpp and fault_notes.hpp (gpu-fixed's Q16 faults); oriented_stages.hpp says how the oriented-box
 // model's sequential orders become sweeps. This header gathers the stages.
 #pragma once
 #include "commit_stages.hpp"
