@@ -42,6 +42,8 @@ import sys
 import threading
 import time
 
+import certify_device  # the CUDA device row (gpu-fixed through CUDA)
+
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
 
 # The fixed engine's sources (and the driver): exactly what a port of the engine needs.
@@ -561,6 +563,10 @@ def markdown_table(results, scenes):
 def main(argv):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--ci", action="store_true", help="the CI subset")
+    ap.add_argument("--device-lockstep", default=os.path.join(ROOT, "build", "compare", "lockstep"),
+                    help="with a CUDA device present (nvidia-smi): the lockstep built with CUDA whose gpu-fixed "
+                         "runs certify the device (certify_device.py)")
+    ap.add_argument("--no-device", action="store_true", help="leave the CUDA device out even when present")
     ap.add_argument("--list", action="store_true", help="print the matrix and exit")
     ap.add_argument("--builds", default="", help="comma-separated build names (see --list) to run only those")
     ap.add_argument("--scenes", default="", help="comma-separated scenes to certify (default: every built-in scene)")
@@ -660,6 +666,14 @@ def main(argv):
         if r["ok"]:
             compare(r, ref, scenes)
 
+    # The CUDA device (certify_device.py): gpu-fixed through CUDA, when a GPU is present.
+    device = None if args.no_device else certify_device.device_present()
+    device_cells = None
+    if device is not None:
+        print("certify: the CUDA device (%s): gpu-fixed through %s" % (device, shown(args.device_lockstep)), flush=True)
+        device_cells = certify_device.certify_device(args.device_lockstep, ref, scenes,
+                                                     os.path.join(args.work, "device"), args.timeout)
+
     # The first difference, located to body and field.
     first = None
     for r in results:
@@ -723,6 +737,9 @@ def main(argv):
                  % (" ".join(BASE_FLAGS), " ".join(ARCHES["wasm32"].link_flags)))
     lines.append("")
     lines.append(markdown_table(sorted(results + skipped, key=lambda r: order_all[r["build"].name]), scenes))
+    if device_cells is not None:
+        lines.append("| `cuda %s gpu-fixed` (the device, every frame's hash) | %s |"
+                     % (device, " | ".join(device_cells[s][1] for s in scenes)))
     lines.append("")
     lines.append("| build | compiler | binary reports | build s | run s |")
     lines.append("|---|---|---|---|---|")
@@ -753,14 +770,21 @@ def main(argv):
             lines.append("%s: %s in %.0f s, counted in its run time." % (r["build"].name, r["setup"][0], r["setup"][1]))
     lines.append("")
     total = time.time() - start
-    if failures or diffs:
-        lines.append("**FAILED**: %d build(s) could not be made or run, %d build(s) differ." % (len(failures), len(diffs)))
+    device_error = device_cells is not None and any(c[0] == "error" for c in device_cells.values())
+    device_diff = device_cells is not None and any(c[0] == "diff" for c in device_cells.values())
+    if device_error:
+        detail.append("the device: " + "; ".join("%s: %s" % (s, c[1]) for s, c in device_cells.items() if c[0] == "error"))
+    if device_diff:
+        detail.append("the device differs: " + ", ".join("%s %s" % (s, c[1]) for s, c in device_cells.items() if c[0] == "diff"))
+    if failures or diffs or device_error or device_diff:
+        lines.append("**FAILED**: %d build(s) could not be made or run, %d build(s) differ%s." % (
+            len(failures) + device_error, len(diffs) + device_diff, " (the device counted)" if device_cells else ""))
         for r in failures:
             lines.append("- %s: %s" % (r["build"].name, r["error"]))
         lines.extend("- " + d for d in detail)
     else:
         lines.append("**CERTIFIED**: %d builds x %d scenes agree with the vectors on every certified frame (%.0f s)."
-                     % (len(results), len(scenes), total))
+                     % (len(results) + (device_cells is not None), len(scenes), total))
     if skipped:
         lines.append("")
         lines.append("**SKIPPED** (not certified here: tools not installed): %s."
@@ -771,9 +795,9 @@ def main(argv):
     if args.report:
         with open(args.report, "w", encoding="utf-8") as f:
             f.write(report + "\n")
-    if failures:
+    if failures or device_error:
         return 2
-    return 1 if diffs else 0
+    return 1 if diffs or device_diff else 0
 
 
 if __name__ == "__main__":
