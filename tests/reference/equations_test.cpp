@@ -601,32 +601,40 @@ void expect_visit_converged() {
     EXPECT_TRUE(visit_converged(a, a, a + d, a - d, eps)) << k;
   }
 }
+// The rows' properties (eqs 114, 128-129): a generated number in [lo, hi),
+// a vector of them, and a contact side, tilted, with inverse mass
+// 1/[m_lo, m_hi) and body-frame inverse inertia in [i_lo, i_hi) (or
+// immovable).
+double rc_num(double lo, double hi) {
+  return lo + (hi - lo) * *rc::gen::inRange(0, 1 << 20) / static_cast<double>(1 << 20);
+}
+V rc_vec(double lo, double hi) { return V{rc_num(lo, hi), rc_num(lo, hi), rc_num(lo, hi)}; }
+BodyView<double> rc_side(bool movable, double m_lo, double m_hi, double i_lo, double i_hi) {
+  const V axis = rc_vec(-1, 1);
+  const double len = length(axis);
+  const Q q = len > 1e-3 ? axis_angle(axis * (1 / len), rc_num(0, 3)) : Q{1, 0, 0, 0};
+  return movable ? BodyView<double>{rc_vec(-3, 3), rc_vec(-5, 5), 1 / rc_num(m_lo, m_hi), rotation_matrix(q),
+                                    rc_vec(i_lo, i_hi)}
+                 : immovable_view<double>();
+}
+// (87) through the rows against impulse_delta, each component within tol.
+void rc_assert_same_delta(const ImpulseDelta<double>& got, const ImpulseDelta<double>& want, double tol) {
+  for (int k = 0; k < 3; ++k) {
+    RC_ASSERT(std::fabs(got.va[k] - want.va[k]) < tol);
+    RC_ASSERT(std::fabs(got.wa[k] - want.wa[k]) < tol);
+    RC_ASSERT(std::fabs(got.vb[k] - want.vb[k]) < tol);
+    RC_ASSERT(std::fabs(got.wb[k] - want.wb[k]) < tol);
+  }
+}
 // eq 114: the normal row gives (48)-(49) along n and (87) for J = n j, for
 // tilted boxes of any inertia (double: equal to rounding).
 RC_GTEST_PROP(ContactTest, Eq114NormalRowIsTheRelativeVelocityAlongN, ()) {
-  auto num = [](double lo, double hi) {
-    return lo + (hi - lo) * *rc::gen::inRange(0, 1 << 20) / static_cast<double>(1 << 20);
-  };
-  auto vec = [&](double lo, double hi) { return V{num(lo, hi), num(lo, hi), num(lo, hi)}; };
-  auto side = [&](bool movable) {
-    const V axis = vec(-1, 1);
-    const double len = length(axis);
-    const Q q = len > 1e-3 ? axis_angle(axis * (1 / len), num(0, 3)) : Q{1, 0, 0, 0};
-    return movable ? BodyView<double>{vec(-3, 3), vec(-5, 5), 1 / num(0.2, 5), rotation_matrix(q), vec(0.5, 20)}
-                   : immovable_view<double>();
-  };
-  const BodyView<double> A = side(true), B = side(*rc::gen::arbitrary<bool>());
-  const V r1 = vec(-1, 1), r2 = vec(-1, 1), n = normalize(vec(-1, 1) + V{0, 2, 0});
+  const BodyView<double> A = rc_side(true, 0.2, 5, 0.5, 20), B = rc_side(*rc::gen::arbitrary<bool>(), 0.2, 5, 0.5, 20);
+  const V r1 = rc_vec(-1, 1), r2 = rc_vec(-1, 1), n = normalize(rc_vec(-1, 1) + V{0, 2, 0});
   const ContactRows<double> row = contact_rows(A, r1, B, r2, n, inverse_effective_mass(A, r1, B, r2, n));
   RC_ASSERT(std::fabs(normal_velocity(A, B, row, n) - dot(relative_velocity(A, r1, B, r2), n)) < 1e-12);
-  const double j = num(-2, 2);
-  const ImpulseDelta<double> got = normal_delta(A, B, row, n, j), want = impulse_delta(A, r1, B, r2, n * j);
-  for (int k = 0; k < 3; ++k) {
-    RC_ASSERT(std::fabs(got.va[k] - want.va[k]) < 1e-12);
-    RC_ASSERT(std::fabs(got.wa[k] - want.wa[k]) < 1e-12);
-    RC_ASSERT(std::fabs(got.vb[k] - want.vb[k]) < 1e-12);
-    RC_ASSERT(std::fabs(got.wb[k] - want.wb[k]) < 1e-12);
-  }
+  const double j = rc_num(-2, 2);
+  rc_assert_same_delta(normal_delta(A, B, row, n, j), impulse_delta(A, r1, B, r2, n * j), 1e-12);
   RC_ASSERT(std::fabs(row.m_n * inverse_effective_mass(A, r1, B, r2, n) - 1.0) < 1e-12);
 }
 // eqs 128-129: the tangents and n are orthonormal; the tangent rows give the
@@ -636,19 +644,8 @@ RC_GTEST_PROP(ContactTest, Eq114NormalRowIsTheRelativeVelocityAlongN, ()) {
 // read off K_t; double: to rounding), for tilted boxes of any inertia and
 // mass.
 RC_GTEST_PROP(ContactTest, Eq129TangentRowsStopALoneSlideInOneStep, ()) {
-  auto num = [](double lo, double hi) {
-    return lo + (hi - lo) * *rc::gen::inRange(0, 1 << 20) / static_cast<double>(1 << 20);
-  };
-  auto vec = [&](double lo, double hi) { return V{num(lo, hi), num(lo, hi), num(lo, hi)}; };
-  auto side = [&](bool movable) {
-    const V axis = vec(-1, 1);
-    const double len = length(axis);
-    const Q q = len > 1e-3 ? axis_angle(axis * (1 / len), num(0, 3)) : Q{1, 0, 0, 0};
-    return movable ? BodyView<double>{vec(-3, 3), vec(-5, 5), 1 / num(0.01, 100), rotation_matrix(q), vec(0.01, 100)}
-                   : immovable_view<double>();
-  };
-  BodyView<double> A = side(true), B = side(*rc::gen::arbitrary<bool>());
-  const V r1 = vec(-1, 1), r2 = vec(-1, 1), n = normalize(vec(-1, 1) + V{0, *rc::gen::inRange(-2, 3) * 1.0, 0});
+  BodyView<double> A = rc_side(true, 0.01, 100, 0.01, 100), B = rc_side(*rc::gen::arbitrary<bool>(), 0.01, 100, 0.01, 100);
+  const V r1 = rc_vec(-1, 1), r2 = rc_vec(-1, 1), n = normalize(rc_vec(-1, 1) + V{0, *rc::gen::inRange(-2, 3) * 1.0, 0});
   RC_PRE(length(n) > 0.5);
   const ContactRows<double> row = contact_rows(A, r1, B, r2, n, inverse_effective_mass(A, r1, B, r2, n));
   RC_ASSERT(std::fabs(dot(row.t[0], row.t[1])) < 1e-12);
@@ -660,14 +657,8 @@ RC_GTEST_PROP(ContactTest, Eq129TangentRowsStopALoneSlideInOneStep, ()) {
   tangent_velocity(A, B, row, vt);
   const V vrel = relative_velocity(A, r1, B, r2);
   for (int a = 0; a < 2; ++a) RC_ASSERT(std::fabs(vt[a] - dot(vrel, row.t[a])) < 1e-9);
-  const V J = row.t[0] * num(-2, 2) + row.t[1] * num(-2, 2);
-  const ImpulseDelta<double> got = tangent_delta(A, B, row, J), want = impulse_delta(A, r1, B, r2, J);
-  for (int k = 0; k < 3; ++k) {
-    RC_ASSERT(std::fabs(got.va[k] - want.va[k]) < 1e-9);
-    RC_ASSERT(std::fabs(got.wa[k] - want.wa[k]) < 1e-9);
-    RC_ASSERT(std::fabs(got.vb[k] - want.vb[k]) < 1e-9);
-    RC_ASSERT(std::fabs(got.wb[k] - want.wb[k]) < 1e-9);
-  }
+  const V J = row.t[0] * rc_num(-2, 2) + row.t[1] * rc_num(-2, 2);
+  rc_assert_same_delta(tangent_delta(A, B, row, J), impulse_delta(A, r1, B, r2, J), 1e-9);
   const V v_tan = tangential_velocity(vrel, n);  // eq 56
   RC_PRE(length(v_tan) > 1e-6);
   const V dir = normalize(v_tan);
