@@ -245,6 +245,33 @@ LS_HD_INLINE T gravity_pressing(const BodyView<T>& B, const Vec3<T>& n, bool gra
   return (gravity && B.inv_mass == T{}) ? -dot(P.gravity, n) : T{};
 }
 
+// Eq 99's first half, for the normal and the friction step: the sides Z,
+// Zb (A's and B's masses, rotations and inertia) are set at rest and gather
+// every point's proposed velocity change (eq 87) in point order;
+// `propose(k, dl, size)` gives point k's change dl and its impulse's size
+// (false: no proposal). Returns R, the largest size; with `deltas`, point
+// k's change is kept in deltas[k]; formed[k] tells whether it was formed.
+template <class T, class Propose>
+LS_HD_INLINE T proposals_at_rest(BodyView<T>& Z, BodyView<T>& Zb, int end, ImpulseDelta<T>* deltas, bool* formed,
+                                 const Propose& propose) {
+  Z.v = Z.w = Zb.v = Zb.w = Vec3<T>{};
+  T reach{};
+#if defined(__CUDA_ARCH__)
+#pragma unroll 1
+#endif
+  for (int k = 0; k < end; ++k) {
+    formed[k] = false;
+    ImpulseDelta<T> dl;
+    T size;
+    if (!propose(k, dl, size)) continue;
+    apply_delta(Z, Zb, dl);
+    if (deltas != nullptr) deltas[k] = dl;
+    formed[k] = true;
+    reach = Num<T>::max(reach, size);
+  }
+  return reach;
+}
+
 // Eq 99's step length for a manifold's normal proposals dj_k (eq 114's rows):
 // with R = max_k |dj_k| and w_k = dj_k / R, a = sum_k w_k res_k (res_k =
 // target_k - v_n,k) and b = sum_k w_k (n_k . dv_k), dv_k the velocity change
@@ -256,22 +283,14 @@ LS_HD_INLINE T gravity_pressing(const BodyView<T>& B, const Vec3<T>& n, bool gra
 template <int N, class T, class Normal, class Row>
 LS_HD_INLINE T normal_manifold_step(const BodyView<T>& A, const BodyView<T>& B, const Normal& normal, const Row& row,
                                     const T* dj, const T* res, int end, ImpulseDelta<T>* deltas, bool* formed) {
-  BodyView<T> Z = A, Zb = B;  // the sides at rest: they gather the proposals' velocity change
-  Z.v = Z.w = Zb.v = Zb.w = Vec3<T>{};
-  T reach{};
-#if defined(__CUDA_ARCH__)
-#pragma unroll 1
-#endif
-  for (int k = 0; k < end; ++k) {
-    formed[k] = false;
+  BodyView<T> Z = A, Zb = B;
+  const T reach = proposals_at_rest(Z, Zb, end, deltas, formed, [&](int k, ImpulseDelta<T>& dl, T& size) {
     Vec3<T> n;
-    if (dj[k] == T{} || !normal(k, n)) continue;
-    const ImpulseDelta<T> dl = normal_delta(Z, Zb, row(k), n, dj[k]);
-    apply_delta(Z, Zb, dl);
-    if (deltas != nullptr) deltas[k] = dl;
-    formed[k] = true;
-    reach = Num<T>::max(reach, Num<T>::abs(dj[k]));
-  }
+    if (dj[k] == T{} || !normal(k, n)) return false;
+    dl = normal_delta(Z, Zb, row(k), n, dj[k]);
+    size = Num<T>::abs(dj[k]);
+    return true;
+  });
   if (!(reach > T{})) return Num<T>::from_int(1);
   T a{}, b{};
 #if defined(__CUDA_ARCH__)
@@ -297,21 +316,13 @@ LS_HD_INLINE T normal_manifold_step(const BodyView<T>& A, const BodyView<T>& B, 
 template <int N, class T, class Row>
 LS_HD_INLINE T friction_manifold_step(const BodyView<T>& A, const BodyView<T>& B, const Row& row, const Vec3<T>* dJ,
                                       const T* vt0, const T* vt1, int end, ImpulseDelta<T>* deltas, bool* formed) {
-  BodyView<T> Z = A, Zb = B;  // the sides at rest: they gather the proposals' velocity change
-  Z.v = Z.w = Zb.v = Zb.w = Vec3<T>{};
-  T reach{};
-#if defined(__CUDA_ARCH__)
-#pragma unroll 1
-#endif
-  for (int k = 0; k < end; ++k) {
-    formed[k] = false;
-    if (dJ[k] == Vec3<T>{}) continue;
-    const ImpulseDelta<T> dl = tangent_delta(Z, Zb, row(k), dJ[k]);
-    apply_delta(Z, Zb, dl);
-    if (deltas != nullptr) deltas[k] = dl;
-    formed[k] = true;
-    reach = Num<T>::max(reach, max_abs(dJ[k]));
-  }
+  BodyView<T> Z = A, Zb = B;
+  const T reach = proposals_at_rest(Z, Zb, end, deltas, formed, [&](int k, ImpulseDelta<T>& dl, T& size) {
+    if (dJ[k] == Vec3<T>{}) return false;
+    dl = tangent_delta(Z, Zb, row(k), dJ[k]);
+    size = max_abs(dJ[k]);
+    return true;
+  });
   if (!(reach > T{})) return Num<T>::from_int(1);
   T a{}, b{};
 #if defined(__CUDA_ARCH__)
