@@ -442,7 +442,7 @@ LS_HD void solve_manifold_rows(BodyView<T>& A, BodyView<T>& B, const Point& poin
   Scratch<ContactState<T>, M> pst;
   Scratch<ContactRows<T>, (kCache && !kRowsInPlace) ? N : 1> prow;
   const ContactRows<T>* rows[M] = {};
-  bool pok[M];
+  bool pok[M] = {};  // (nvcc cannot see that every read follows the first loop's write)
   // Point k's normal and penetration (false: not a contact).
   auto point = [&](int k, Vec3<T>& n, T& penetration) -> bool {
     if constexpr (kCache) {
