@@ -10,6 +10,7 @@
 #include "lockstep/physics/integrate.hpp"
 #include "lockstep/physics/solver.hpp"
 #include "lockstep/world.hpp"
+#include "solve_schedule.hpp"
 
 namespace lockstep {
 
@@ -31,6 +32,10 @@ inline constexpr int kManifoldPoints = 9;
 // is 0.2 (float) to 0.5 (fixed) microseconds of work on pile1000, a part's
 // start and end a microsecond or two; a colour of 16 edges or more is split.
 inline constexpr std::size_t kVisitGrain = 8;
+// The fewest visits per part of the passes on threads (solve_schedule.hpp):
+// a visit whose other body another part runs may wait for it, so a part
+// wants a region of its own (pile1000: 4,000-6,000 visits a pass).
+inline constexpr std::size_t kPartVisits = 16;
 }  // namespace solver
 
 template <class T>
@@ -281,14 +286,79 @@ void World<T>::solve_contacts() {
   // backwards (symmetric Gauss-Seidel), so an impact on top of a stack
   // reaches the ground within one pass and the ground's answer climbs back
   // in the next. The source's AABB model: every pass forwards.
-  for (int it = 0; it < P_.solver_iterations; ++it) {
-    const bool reverse = oriented && (it & 1) != 0;
-    if (!reverse) {
-      own_visits(it, false);
-      for (int c = 0; c < colours; ++c) colour(it, c);
-    } else {
-      for (int c = colours; c-- > 0;) colour(it, c);
-      own_visits(it, true);
+  // On several threads (7.7 "Threads"), when the visits are many: each
+  // awake body's visits form one chain through the passes, and the parts run
+  // them without a barrier per step (solve_schedule.hpp), the same bits.
+#if !defined(LOCKSTEP_NO_THREADS)
+  const std::size_t visit_count = scratch_.body_visits.size() + scratch_.colour_visits.size();
+  const int parts = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(workers_.threads), visit_count / solver::kPartVisits));
+  if (parts > 1) {
+    PassPlan plan;  // (a few vectors per frame: microseconds beside the passes)
+    // The forward pass (eqs 125-127): the bodies' own visits, then the edges colour by colour.
+    plan.order.assign(scratch_.body_visits.begin(), scratch_.body_visits.end());
+    plan.order.insert(plan.order.end(), scratch_.colour_visits.begin(), scratch_.colour_visits.end());
+    plan.body.assign(visits.size(), {-1, -1});
+    for (int v : plan.order) {
+      const Contact<T>& c = contacts_[visits[static_cast<std::size_t>(v)].first];
+      plan.body[static_cast<std::size_t>(v)] = {awake(c.a) ? c.a : -1, awake(c.b) ? c.b : -1};
+    }
+    plan.rank_visits(visits.size(), bodies_.size());
+    // The parts: the awake bodies by (x, index), cut into `parts` runs of
+    // about equal contact points (neighbours in space share few edges); a
+    // visit goes to the part of its first awake body. (Which part runs a
+    // visit never changes its bits, only how long the parts wait.)
+    std::vector<std::pair<int, int>> weight;  // (body, contact points of its visits)
+    std::vector<int> owner(bodies_.size(), -1);
+    for (int v : plan.order) {
+      const auto& vis = visits[static_cast<std::size_t>(v)];
+      const int points = static_cast<int>(vis.second - vis.first);
+      for (int b : plan.body[static_cast<std::size_t>(v)]) {
+        if (b < 0) continue;
+        if (owner[static_cast<std::size_t>(b)] < 0) {
+          owner[static_cast<std::size_t>(b)] = static_cast<int>(weight.size());
+          weight.emplace_back(b, 0);
+        }
+        weight[static_cast<std::size_t>(owner[static_cast<std::size_t>(b)])].second += points;
+      }
+    }
+    std::sort(weight.begin(), weight.end(), [&](const std::pair<int, int>& x, const std::pair<int, int>& y) {
+      const T xa = bodies_[static_cast<std::size_t>(x.first)].p.x, ya = bodies_[static_cast<std::size_t>(y.first)].p.x;
+      return xa < ya || (xa == ya && x.first < y.first);
+    });
+    std::int64_t total = 0;
+    for (const auto& w : weight) total += w.second;
+    std::int64_t before = 0;
+    for (const auto& w : weight) {
+      owner[static_cast<std::size_t>(w.first)] = static_cast<int>(std::min<std::int64_t>(parts - 1, before * parts / std::max<std::int64_t>(total, 1)));
+      before += w.second;
+    }
+    plan.part.resize(static_cast<std::size_t>(parts));
+    for (std::vector<int>& l : plan.part) l.clear();
+    for (int v : plan.order) {
+      const std::array<int, 2>& b = plan.body[static_cast<std::size_t>(v)];
+      plan.part[static_cast<std::size_t>(owner[static_cast<std::size_t>(b[0] >= 0 ? b[0] : b[1])])].push_back(v);
+    }
+    if (!workers_.pool) workers_.pool = std::make_shared<ThreadPool>(workers_.threads);
+    for (SolveCounts& c : part_counts) c = SolveCounts{};
+    run_passes(
+        *workers_.pool, plan, P_.solver_iterations, oriented,
+        [&](std::size_t v, int it, int part) { visit_at(v, it, part_counts[static_cast<std::size_t>(part)]); },
+        [](int part) {
+          if (part != 0) Num<T>::take_faults();  // a worker's faults: none left from an earlier region
+        });
+    for (const SolveCounts& c : part_counts) tally(c);
+  } else
+#endif
+  {
+    for (int it = 0; it < P_.solver_iterations; ++it) {
+      const bool reverse = oriented && (it & 1) != 0;
+      if (!reverse) {
+        own_visits(it, false);
+        for (int c = 0; c < colours; ++c) colour(it, c);
+      } else {
+        for (int c = colours; c-- > 0;) colour(it, c);
+        own_visits(it, true);
+      }
     }
   }
   warm_.clear();

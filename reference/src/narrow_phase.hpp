@@ -88,9 +88,19 @@ void World<T>::narrow_phase() {
   }
   if (scene_.effects.sleep) wake_touched(pair_contacts);
 
-  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+  // The environment's contacts, body by body (each a function of its body
+  // alone): the bodies in parallel on the world's threads, in contiguous
+  // ranges whose contacts are then appended in range order, so in body order.
+  struct EnvContacts {
+    std::vector<Contact<T>> contacts;
+    std::uint64_t ground = 0, sdf = 0;
+  };
+  std::vector<EnvContacts> env(static_cast<std::size_t>(workers_.threads));
+  parallel_for(bodies_.size(), 64, [&](std::size_t i, int part) {
+    EnvContacts& out = env[static_cast<std::size_t>(part)];
+    std::vector<Contact<T>>& list = out.contacts;
     const Body<T>& b = bodies_[i];
-    if (!b.awake()) continue;  // 7.3
+    if (!b.awake()) return;  // 7.3
     // eqs 97, 107: ground corners are speculative contacts within the contact
     // tolerance plus, oriented-box model, the body's reach; SDF samples within
     // the tolerance (with the reach a box came to rest 0.5 mm off the bowl:
@@ -101,7 +111,7 @@ void World<T>::narrow_phase() {
       // less than contact_tolerance (eq 97), is a contact point (a flat cube gets its 4 bottom corners, an edge 2, a corner 1),
       // in corner order; only the deepest (first on ties) carries the
       // position correction of eq 89, so the body is corrected once.
-      int first = static_cast<int>(contacts_.size());
+      int first = static_cast<int>(list.size());
       int deepest = -1;
       for (int k = 0; k < 8; ++k) {
         Vec3<T> corner;
@@ -115,12 +125,12 @@ void World<T>::narrow_phase() {
         c.point = corner;
         c.corrects = false;
         c.feature = k;
-        if (deepest < 0 || depth > contacts_[static_cast<std::size_t>(deepest)].penetration)
-          deepest = static_cast<int>(contacts_.size());
-        contacts_.push_back(c);
-        ++counters_.ground_contacts;
+        if (deepest < 0 || depth > list[static_cast<std::size_t>(deepest)].penetration)
+          deepest = static_cast<int>(list.size());
+        list.push_back(c);
+        ++out.ground;
       }
-      if (deepest >= first) contacts_[static_cast<std::size_t>(deepest)].corrects = true;
+      if (deepest >= first) list[static_cast<std::size_t>(deepest)].corrects = true;
       check_faults(static_cast<int>(i), "ground contact");
     }
     if (scene_.effects.sdf) {
@@ -129,7 +139,7 @@ void World<T>::narrow_phase() {
         // eq 93: sample the 8 corners (radius 0) and the centre (radius min h);
         // as on the ground (eq 84), every penetrating sample is a contact point
         // with its own normal, and only the deepest carries the correction.
-        const int first = static_cast<int>(contacts_.size());
+        const int first = static_cast<int>(list.size());
         int deepest = -1;
         for (int s = 0; s < 9; ++s) {
           const SdfContact<T> sc = sdf_sample_contact(b.p, b.R, b.half, g, s, P_.contact_tolerance);  // eqs 33-37, 97
@@ -142,15 +152,20 @@ void World<T>::narrow_phase() {
           c.penetration = sc.penetration;
           c.corrects = false;
           c.feature = s;
-          if (deepest < 0 || sc.penetration > contacts_[static_cast<std::size_t>(deepest)].penetration)
-            deepest = static_cast<int>(contacts_.size());
-          contacts_.push_back(c);
-          ++counters_.sdf_contacts;
+          if (deepest < 0 || sc.penetration > list[static_cast<std::size_t>(deepest)].penetration)
+            deepest = static_cast<int>(list.size());
+          list.push_back(c);
+          ++out.sdf;
         }
-        if (deepest >= first) contacts_[static_cast<std::size_t>(deepest)].corrects = true;
+        if (deepest >= first) list[static_cast<std::size_t>(deepest)].corrects = true;
         check_faults(static_cast<int>(i), "SDF contact");
       }
     }
+  });
+  for (EnvContacts& e : env) {
+    contacts_.insert(contacts_.end(), e.contacts.begin(), e.contacts.end());
+    counters_.ground_contacts += e.ground;
+    counters_.sdf_contacts += e.sdf;
   }
   contacts_.insert(contacts_.end(), pair_contacts.begin(), pair_contacts.end());
 
