@@ -52,7 +52,7 @@ void World<T>::broad_phase() {
     return;
   }
   // Boxes grown by grow_ (eqs 97, 107), as the narrowphase grows them.
-  // The grid's buffers are kept from frame to frame (no allocation per frame).
+  // The grid's buffers are kept from frame to frame (the parts' lists below are a few allocations a frame).
   BroadScratch& g = scratch_.broad;
   g.cmin.resize(n);
   g.cmax.resize(n);
@@ -67,8 +67,12 @@ void World<T>::broad_phase() {
   using Entry = BroadEntry;
   std::vector<Entry>& entries = g.entries;
   std::vector<int>& large = g.large;
-  entries.reserve(n * 2);
-  for (std::size_t i = 0; i < n; ++i) {
+  // Each body's grown box and cells (eqs 29-30, 26), the bodies in parallel
+  // on the world's threads; each part lists its bodies' cell entries.
+  const int parts = std::max(1, workers_.threads);
+  std::vector<std::vector<Entry>> part_entries(static_cast<std::size_t>(parts));  // (a few per frame)
+  std::vector<std::int64_t> cell_count(n);
+  parallel_for(n, 64, [&](std::size_t i, int part) {
     const Body<T>& b = bodies_[i];
     const Vec3<T> grow{grow_[i], grow_[i], grow_[i]};
     const Vec3<T> lo = b.p - (b.aabb_half + grow), hi = b.p + (b.aabb_half + grow);  // eqs 29-30
@@ -77,17 +81,32 @@ void World<T>::broad_phase() {
     min_x[i] = lo.x;
     max_x[i] = hi.x;
     const std::int64_t cells = std::int64_t{cmax[i].x - cmin[i].x + 1} * (cmax[i].y - cmin[i].y + 1) * (cmax[i].z - cmin[i].z + 1);
-    ++counters_.broadphase_bodies;
-    if (cells > kMaxCellsPerBody) { large.push_back(static_cast<int>(i)); continue; }
+    cell_count[i] = cells;
+    check_faults(static_cast<int>(i), "broad phase (grown box)");
+    if (cells > kMaxCellsPerBody) return;
+    std::vector<Entry>& out = part_entries[static_cast<std::size_t>(part)];
     for (int x = cmin[i].x; x <= cmax[i].x; ++x)
       for (int y = cmin[i].y; y <= cmax[i].y; ++y)
-        for (int z = cmin[i].z; z <= cmax[i].z; ++z) entries.push_back({cell_key(x, y, z), static_cast<int>(i)});
-  }
-  // Fixed order: by cell, then by body index (keys are unique, so any correct sort agrees).
-  std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
-    return a.key != b.key ? a.key < b.key : a.body < b.body;
+        for (int z = cmin[i].z; z <= cmax[i].z; ++z) out.push_back({cell_key(x, y, z), static_cast<int>(i)});
   });
-  auto maybe_pair = [&](int i, int j) {
+  counters_.broadphase_bodies += n;
+  for (std::size_t i = 0; i < n; ++i)
+    if (cell_count[i] > kMaxCellsPerBody) large.push_back(static_cast<int>(i));
+  // Fixed order: by cell, then by body index (keys are unique, so any correct
+  // sort agrees): each part's entries sorted in parallel, then merged.
+  auto by_cell = [](const Entry& a, const Entry& b) { return a.key != b.key ? a.key < b.key : a.body < b.body; };
+  // (parallel_for's cut: the parts that hold entries)
+  const std::size_t filled = std::max<std::size_t>(1, std::min<std::size_t>(static_cast<std::size_t>(parts), n / 64));
+  parallel_for(filled, 1, [&](std::size_t part, int) {
+    std::vector<Entry>& pe = part_entries[part];
+    std::sort(pe.begin(), pe.end(), by_cell);
+  });
+  for (const std::vector<Entry>& pe : part_entries) {
+    const auto mid = static_cast<std::ptrdiff_t>(entries.size());
+    entries.insert(entries.end(), pe.begin(), pe.end());
+    std::inplace_merge(entries.begin(), entries.begin() + mid, entries.end(), by_cell);
+  }
+  auto maybe_pair = [&](int i, int j, std::vector<std::pair<int, int>>& out) {
     const Body<T>& a = bodies_[static_cast<std::size_t>(i)];
     const Body<T>& b = bodies_[static_cast<std::size_t>(j)];
     if (!a.awake() && !b.awake()) return;
@@ -95,33 +114,48 @@ void World<T>::broad_phase() {
     for (int ax = 1; ax < 3; ++ax)  // x was checked by the sweep
       if (a.p[ax] + (a.aabb_half[ax] + ga) < b.p[ax] - (b.aabb_half[ax] + gb) ||
           b.p[ax] + (b.aabb_half[ax] + gb) < a.p[ax] - (a.aabb_half[ax] + ga)) return;
-    pairs_.emplace_back(std::min(i, j), std::max(i, j));
+    out.emplace_back(std::min(i, j), std::max(i, j));
   };
-  std::vector<int>& members = g.members;
-  for (std::size_t s = 0; s < entries.size();) {
-    std::size_t e = s;
-    while (e < entries.size() && entries[e].key == entries[s].key) ++e;
-    members.clear();
-    for (std::size_t k = s; k < e; ++k) members.push_back(entries[k].body);
-    // Sweep along x inside the cell: sorted by AABB min x, then index.
-    std::sort(members.begin(), members.end(), [&](int a, int b) {
-      return min_x[static_cast<std::size_t>(a)] != min_x[static_cast<std::size_t>(b)]
-                 ? min_x[static_cast<std::size_t>(a)] < min_x[static_cast<std::size_t>(b)] : a < b;
-    });
-    const std::uint64_t key = entries[s].key;
-    for (std::size_t a = 0; a < members.size(); ++a) {
-      const auto ia = static_cast<std::size_t>(members[a]);
-      for (std::size_t b = a + 1; b < members.size(); ++b) {
-        const auto ib = static_cast<std::size_t>(members[b]);
-        if (max_x[ia] < min_x[ib]) break;
-        // eq 83: the pair's home cell is max(cmin_i, cmin_j): report it there only.
-        const std::uint64_t home = cell_key(std::max(cmin[ia].x, cmin[ib].x), std::max(cmin[ia].y, cmin[ib].y),
-                                            std::max(cmin[ia].z, cmin[ib].z));
-        if (home == key) maybe_pair(members[a], members[b]);
+  // The cells swept in parallel: the entries cut into `parts` ranges at cell
+  // boundaries, each part's pairs in its own list (pairs_ is sorted at the end).
+  const std::size_t sweeps = std::max<std::size_t>(1, std::min<std::size_t>(static_cast<std::size_t>(parts), entries.size() / 256));
+  std::vector<std::vector<std::pair<int, int>>> part_pairs(sweeps);
+  std::vector<std::vector<int>> part_members(sweeps);
+  parallel_for(sweeps, 1, [&](std::size_t part, int) {
+    std::vector<std::pair<int, int>>& out = part_pairs[part];
+    auto cell_start = [&](std::size_t k) {  // the first entry of the cell holding entry k (or entries.size())
+      while (k > 0 && k < entries.size() && entries[k - 1].key == entries[k].key) --k;
+      return std::min(k, entries.size());
+    };
+    const std::size_t from = cell_start(entries.size() * part / sweeps);
+    const std::size_t to = cell_start(entries.size() * (part + 1) / sweeps);
+    std::vector<int>& members = part_members[part];
+    for (std::size_t s = from; s < to;) {
+      std::size_t e = s;
+      while (e < entries.size() && entries[e].key == entries[s].key) ++e;
+      members.clear();
+      for (std::size_t k = s; k < e; ++k) members.push_back(entries[k].body);
+      // Sweep along x inside the cell: sorted by AABB min x, then index.
+      std::sort(members.begin(), members.end(), [&](int a, int b) {
+        return min_x[static_cast<std::size_t>(a)] != min_x[static_cast<std::size_t>(b)]
+                   ? min_x[static_cast<std::size_t>(a)] < min_x[static_cast<std::size_t>(b)] : a < b;
+      });
+      const std::uint64_t key = entries[s].key;
+      for (std::size_t a = 0; a < members.size(); ++a) {
+        const auto ia = static_cast<std::size_t>(members[a]);
+        for (std::size_t b = a + 1; b < members.size(); ++b) {
+          const auto ib = static_cast<std::size_t>(members[b]);
+          if (max_x[ia] < min_x[ib]) break;
+          // eq 83: the pair's home cell is max(cmin_i, cmin_j): report it there only.
+          const std::uint64_t home = cell_key(std::max(cmin[ia].x, cmin[ib].x), std::max(cmin[ia].y, cmin[ib].y),
+                                              std::max(cmin[ia].z, cmin[ib].z));
+          if (home == key) maybe_pair(members[a], members[b], out);
+        }
       }
+      s = e;
     }
-    s = e;
-  }
+  });
+  for (const std::vector<std::pair<int, int>>& out : part_pairs) pairs_.insert(pairs_.end(), out.begin(), out.end());
   // Large bodies: against every other body; a pair of two large bodies once.
   for (int L : large) {
     const auto l = static_cast<std::size_t>(L);
@@ -130,7 +164,7 @@ void World<T>::broad_phase() {
       const bool k_large = std::binary_search(large.begin(), large.end(), static_cast<int>(k));
       if (k_large && k < l) continue;
       if (max_x[l] < min_x[k] || max_x[k] < min_x[l]) continue;
-      maybe_pair(L, static_cast<int>(k));
+      maybe_pair(L, static_cast<int>(k), pairs_);
     }
   }
   std::sort(pairs_.begin(), pairs_.end());

@@ -215,12 +215,13 @@ void World<T>::narrow_phase() {
     add_support(c.a, ci, c.n);
     if (c.b >= 0) add_support(c.b, ci, -c.n);
   }
-  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+  parallel_for(bodies_.size(), 64, [&](std::size_t i, int) {  // each body alone
     if (support_[i] >= 0) support_n_[i] = normalize(support_n_[i]);
     const Stance st = stance_of(scratch_.support_arms[i].data(), n_arms[i], support_[i] >= 0, loaded[i] != 0, bodies_[i].w, P_);
     over_support_[i] = st.over;              // eq 112
     leaning_[i] = oriented && st.leans ? 1 : 0;  // eq 115
-  }
+    check_faults(static_cast<int>(i), "support normal and stance (eqs 98, 112)");
+  });
   // Stage 6's order (settle() walks it): the supported awake bodies, lowest
   // first (ties: index). Nothing before stage 6 moves or wakes a body.
   scratch_.settle_order.clear();

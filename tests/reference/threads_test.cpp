@@ -108,14 +108,27 @@ TEST(ThreadsTest, MpGivesTheSameBitsOnThreeThreads) {
 }
 
 // The busy frames of pile1000 (the columns falling into each other, up to
-// 6,000 contacts): the solver's steps run in several parts, and the bits
-// are the single thread's, frame for frame.
-TEST(ThreadsTest, Pile1000BusyFramesSameBitsOnTwoThreads) {
+// 6,000 contacts, 1,000 bodies): every stage runs in several parts (the
+// broad phase's cells, the environment's contacts, the stances, the manifolds
+// and the solver's passes, whose parts wait on each other's bodies), and the
+// bits and counters are the single thread's, frame for frame, on 2 and 3
+// threads (3: cuts that fall mid-column), fixed and float.
+template <class T>
+void check_pile1000_busy_frames() {
   const Scene s = *builtin_scene("pile1000");
-  const Trace one = run<Q16>(s, 1, 60), two = run<Q16>(s, 2, 60);
-  EXPECT_EQ(one.hashes, two.hashes);
-  EXPECT_EQ(one.counters.solver_contacts, two.counters.solver_contacts);
+  const Trace one = run<T>(s, 1, 90);
+  for (int threads : {2, 3}) {
+    const Trace many = run<T>(s, threads, 90);
+    EXPECT_EQ(one.hashes, many.hashes) << threads << " threads";
+    EXPECT_EQ(one.counters.solver_contacts, many.counters.solver_contacts) << threads << " threads";
+    EXPECT_EQ(one.counters.normal_impulses, many.counters.normal_impulses) << threads << " threads";
+    EXPECT_EQ(one.counters.pairs_tested, many.counters.pairs_tested) << threads << " threads";
+    EXPECT_EQ(one.counters.ground_contacts, many.counters.ground_contacts) << threads << " threads";
+    EXPECT_EQ(one.counters.body_contacts, many.counters.body_contacts) << threads << " threads";
+  }
 }
+TEST(ThreadsTest, Pile1000BusyFramesSameBitsOnTwoAndThreeThreadsFixed) { check_pile1000_busy_frames<Q16>(); }
+TEST(ThreadsTest, Pile1000BusyFramesSameBitsOnTwoAndThreeThreadsFloat) { check_pile1000_busy_frames<float>(); }
 
 // A world's threads are not state: a copy steps on as many, and a bad count
 // is refused with the value named.
