@@ -340,6 +340,9 @@ class Pipeline final : public PipelineBase<T> {
   Buf<unsigned long long> edge_key_;
   std::vector<int> colour_offset_;   // host: colour c's edges are edges_[offset[c], offset[c + 1])
   Buf<int> immovable_;               // per slot: contacts with immovable things (ContactsK)
+  // gpu-fixed (kRowsOnce): the rows of the ground and SDF points (imm_stride()
+  // per slot, ImmRowsK) and of the coloured edges' manifold points (EdgeRowsK).
+  Buf<ContactRows<T>> imm_rows_, edge_rows_;
   Buf<int> scal_;  // [0]: woken count, [1]: error (4 i + code, or INT_MAX), [2]: longest neighbour list,
                    // [3]: bodies whose settled velocity is not final yet (settling batches)
   // The oriented-box model (oriented_stages.hpp): per body its growth (eqs
@@ -655,8 +658,27 @@ void Pipeline<B, T>::step() {
                                    work_slot_[1].data(), n_active, work_key_bits(n_active));
       order = work_slot_[r].data();
     }
-    if (opt_.pair_solver == GpuOptions::PairSolver::kColoured) {
-      const int* colour = colour_edges(n_active, active, nl, par);
+    const bool coloured = opt_.pair_solver == GpuOptions::PairSolver::kColoured;
+    const int* colour = coloured ? colour_edges(n_active, active, nl, par) : nullptr;
+    // gpu-fixed: the rows of the ground and SDF points, and of the coloured
+    // edges' manifolds, formed once for the iterations (kRowsOnce).
+    const ContactRows<T>* imm_rows = nullptr;
+    const ContactRows<T>* edge_rows = nullptr;
+    if constexpr (kRowsOnce<T>) {
+      if (iterations > 0) {
+        imm_rows_.resize(static_cast<std::size_t>(n_active) * static_cast<std::size_t>(sc_.imm_stride()) + 1);
+        if (sc_.imm_stride() > 0)
+          be_.for_n(n_active, ImmRowsK<T>{d, coloured ? immovable_.data() : nullptr, imm_rows_.data()});
+        imm_rows = imm_rows_.data();
+        if (coloured && oriented_) {
+          const int n_edges = colour_offset_[static_cast<std::size_t>(colours_)];
+          edge_rows_.resize(static_cast<std::size_t>(n_edges) * kBoxManifoldPoints + 1);
+          be_.for_n(n_edges, EdgeRowsK<T>{d, edges_.data(), edge_rows_.data()});
+          edge_rows = edge_rows_.data();
+        }
+      }
+    }
+    if (coloured) {
       for (int it = 0; it < iterations; ++it) {  // in place in buffer 1
         // The oriented-box model alternates (7.2 step 5): odd passes visit
         // the colours top-down, then the bodies' own manifolds in reverse.
@@ -665,10 +687,12 @@ void Pipeline<B, T>::step() {
                   vel_[1].data(), ang_[1].data(), ctr_.data()};
         sk.reverse = reverse;
         sk.pass = it;
+        sk.imm_rows = imm_rows;
         auto colour_pass = [&](int c) {
-          be_.for_n(colour_offset_[c + 1] - colour_offset_[c],
-                    SolveEdgeK<T>{d, edges_.data() + colour_offset_[c], mate_.data(), vel_[1].data(), ang_[1].data(),
-                               ctr_.data(), it});
+          SolveEdgeK<T> ek{d, edges_.data() + colour_offset_[c], mate_.data(), vel_[1].data(), ang_[1].data(),
+                           ctr_.data(), it};
+          if (edge_rows != nullptr) ek.rows = edge_rows + static_cast<std::size_t>(colour_offset_[c]) * kBoxManifoldPoints;
+          be_.for_n(colour_offset_[c + 1] - colour_offset_[c], ek);
         };
         if (!reverse) {
           be_.for_n(n_active, sk);
@@ -685,6 +709,7 @@ void Pipeline<B, T>::step() {
                   ang_[out].data(), ctr_.data()};
         sk.reverse = oriented_ && (it & 1) != 0;
         sk.pass = it;
+        sk.imm_rows = imm_rows;
         be_.for_n(n_active, sk);
         last = out;
       }

@@ -12,6 +12,76 @@
 
 namespace lockstep::gpu {
 
+// A ground corner of body (p, R, h) as a manifold point (eq 99) of SolveK's
+// ground visit, and an SDF volume's sample, as the visits and ImmRowsK read them.
+template <class T>
+LS_HD_INLINE bool ground_point(const Vec3<T>& p, const Mat3<T>& R, const Vec3<T>& h, int c, const SceneConsts<T>& sc,
+                               const T& tol, Vec3<T>& r1, Vec3<T>& r2, Vec3<T>& n, T& penetration) {
+  r2 = Vec3<T>{};
+  Vec3<T> corner;
+  penetration = ground_corner_depth(p, R, h, c, sc.ground_y, corner);
+  r1 = corner - p;
+  n = Vec3<T>{T{}, Num<T>::from_int(1), T{}};
+  return penetration > -tol;
+}
+template <class T>
+LS_HD_INLINE bool sdf_point(const SolverData<T>& d, int k, int v, int s, const Vec3<T>& p, Vec3<T>& r1, Vec3<T>& r2,
+                            Vec3<T>& n, T& penetration) {
+  r2 = Vec3<T>{};
+  const int g = (k * d.sc.n_sdf + v) * 9 + s;
+  const T4<T> c1 = ro(d.sdf_c1 + g), c0 = ro(d.sdf_c0 + g);
+  r1 = xyz(c1) - p;
+  n = xyz(c0);
+  penetration = c0.w;
+  return c1.w != T{};
+}
+
+// gpu-fixed's rows formed once per frame (docs/GPU.md "gpu-fixed"): a Q16
+// visit reads each point's rows (eqs 114, 128-129) from these arrays instead
+// of forming them in every pass; float visits form the half they read
+// (solver.hpp, solve_manifold_rows), as before. kRowsOnce<T>: whether T's
+// visits read them.
+template <class T>
+inline constexpr bool kRowsOnce = Num<T>::kExact;
+
+// The rows a manifold visit (solve_manifold_rows) forms, into rows[0..N-1]:
+// contact_rows of each point that is a contact, in point order, stopping
+// after the first if its k_n is 0 (the visit returns there, both sides
+// immovable); the same values, and the same Q16 status flags, as the visit's
+// own forming of them.
+template <int N, class T, class Point, class Load>
+LS_HD_INLINE void form_manifold_rows(const BodyView<T>& A, const BodyView<T>& B, const Point& point_at,
+                                     const Load& load_at, ContactRows<T>* rows) {
+  bool first = true;
+#if defined(__CUDA_ARCH__)
+#pragma unroll 1
+#endif
+  for (int k = 0; k < N; ++k) {
+    Vec3<T> r1, r2, n;
+    T penetration;
+    if (!point_at(k, r1, r2, n, penetration)) continue;
+    const T k_n = load_at(k).k_n;
+    rows[k] = contact_rows(A, r1, B, r2, n, k_n);
+    if (first && !(k_n > T{})) return;  // the first contact's k_n is 0: the visit returns
+    first = false;
+  }
+}
+
+// A manifold visit of solve_manifold (k_scale as its), through rows formed
+// once (kRowsOnce<T>: `rows`, the visit's N points') or forming them.
+template <int N, class T, class Point, class Load, class Store>
+LS_HD_INLINE void visit_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point, const ContactRows<T>* rows,
+                                 const Load& load, const Store& store, bool friction, bool gravity, const T& k_scale,
+                                 const Params<T>& P, SolveCounts& counts) {
+  if constexpr (kRowsOnce<T>) {
+    auto row = [rows](int k) -> const ContactRows<T>& { return rows[k]; };
+    solve_manifold_rows<N>(A, B, point, row, load, store, friction, gravity, k_scale, P, counts);
+  } else {
+    (void)rows;
+    solve_manifold<N>(A, B, point, load, store, friction, gravity, k_scale, P, counts);
+  }
+}
+
 // Stage 5, one iteration for every active body (docs/GPU.md "Contact
 // resolution"). Contacts with immovable things (the ground and SDF manifolds
 // of eq 99, sleeping and static bodies) are visited one after the other on
@@ -38,6 +108,7 @@ struct SolveK {
   Counter* ctr;
   bool reverse = false;  // oriented-box model, odd passes: the body's visits in reverse (7.2 step 5)
   int pass = 0;          // the solver pass (eq 113)
+  const ContactRows<T>* imm_rows = nullptr;  // kRowsOnce<T>: ImmRowsK's, imm_stride() per slot
   LS_HD void operator()(int thread) const {
     const BodyArrays<T>& b = d.b;
     const SceneConsts<T>& sc = d.sc;
@@ -55,7 +126,6 @@ struct SolveK {
     const T tol = sc.immovable_tol(i);  // eqs 97, 107
     const int stride = sc.imm_stride();
     SolveCounts counts;
-    const Vec3<T> up{T{}, Num<T>::from_int(1), T{}};
     // Ground corners and each SDF volume's samples: manifolds (eq 99); the
     // points' state is read and written where it lives.
     BodyView<T> env = immovable_view<T>();
@@ -71,29 +141,22 @@ struct SolveK {
       };
     };
     // The ground manifold and SDF volume v's (eq 99), on the body's own velocity.
+    const T one = Num<T>::from_int(1);
+    auto rows_at = [&](int base) { return imm_rows != nullptr ? imm_rows + (static_cast<long>(k) * stride + base) : nullptr; };
     auto solve_ground = [&] {
       auto corner_point = [&](int c, Vec3<T>& r1, Vec3<T>& r2, Vec3<T>& n, T& penetration) {
-        r2 = Vec3<T>{};
-        Vec3<T> corner;
-        penetration = ground_corner_depth(p, R, h, c, sc.ground_y, corner);
-        r1 = corner - p;
-        n = up;
-        return penetration > -tol;
+        return ground_point(p, R, h, c, sc, tol, r1, r2, n, penetration);
       };
-      solve_manifold<8>(self, env, corner_point, loader(0), storer(0), sc.friction, sc.gravity, sc.P, counts);
+      visit_manifold<8>(self, env, corner_point, rows_at(0), loader(0), storer(0), sc.friction, sc.gravity, one, sc.P,
+                        counts);
     };
     auto solve_volume = [&](int v) {
       const int base = sc.ground_slots() + 9 * v;
       auto sample = [&](int s, Vec3<T>& r1, Vec3<T>& r2, Vec3<T>& n, T& penetration) {
-        r2 = Vec3<T>{};
-        const int g = (k * sc.n_sdf + v) * 9 + s;
-        const F4 c1 = ro(d.sdf_c1 + g), c0 = ro(d.sdf_c0 + g);
-        r1 = xyz(c1) - p;
-        n = xyz(c0);
-        penetration = c0.w;
-        return c1.w != T{};
+        return sdf_point(d, k, v, s, p, r1, r2, n, penetration);
       };
-      solve_manifold<9>(self, env, sample, loader(base), storer(base), sc.friction, sc.gravity, sc.P, counts);
+      visit_manifold<9>(self, env, sample, rows_at(base), loader(base), storer(base), sc.friction, sc.gravity, one,
+                        sc.P, counts);
     };
     // A pair visit's result for the body (mv, mw: its velocity after it):
     // Jacobi adds the change to dv, dw, else it is the body's velocity; the
@@ -241,6 +304,7 @@ struct SolveEdgeK {
   F4* ang;
   Counter* ctr;
   int pass = 0;  // the solver pass (eq 113)
+  const ContactRows<T>* rows = nullptr;  // kRowsOnce<T>, oriented-box model: EdgeRowsK's, kBoxManifoldPoints per edge of this colour
   LS_HD void operator()(int e) const {
     const BodyArrays<T>& b = d.b;
     const SceneConsts<T>& sc = d.sc;
@@ -277,7 +341,8 @@ struct SolveEdgeK {
       if (visit_is_converged(conv, A, B, sc.P, pass)) return;  // eq 113
       const Vec3<T> va0 = A.v, wa0 = A.w, vb0 = B.v, wb0 = B.w;
       SolveCounts counts;
-      solve_manifold<kBoxManifoldPoints>(A, B, point, load, store, sc.friction, sc.gravity, sc.P, counts);
+      visit_manifold<kBoxManifoldPoints>(A, B, point, rows != nullptr ? rows + static_cast<long>(e) * kBoxManifoldPoints : nullptr,
+                                         load, store, sc.friction, sc.gravity, Num<T>::from_int(1), sc.P, counts);
       record_visit(conv, va0, wa0, vb0, wb0, A, B, sc.P, counts.shortened_steps);
       if (F4* twin_conv = d.conv_of_pair(ro(mate + t)); conv != nullptr && twin_conv != nullptr)
         for (int q = 0; q < 4; ++q) twin_conv[q] = conv[q];
@@ -311,6 +376,92 @@ struct SolveEdgeK {
     add_counter(&ctr[kCSolverContacts], counts.solver_contacts);
     add_counter(&ctr[kCNormalImpulses], counts.normal_impulses);
     add_counter(&ctr[kCFrictionSteps], counts.friction_steps);
+  }
+};
+
+// gpu-fixed's rows of every slot's ground and SDF manifold points
+// (kRowsOnce<T>), once per frame before the solver's iterations: what
+// SolveK's visits of them form (form_manifold_rows, the same sides and
+// points), at the index of their state in SolverData::imm; the Q16 flags
+// noted where the visits note them (the body, "contact impulse").
+template <class T>
+struct ImmRowsK {
+  using F4 = T4<T>;
+  SolverData<T> d;
+  const int* has_immovable;  // the coloured solver's (SolveK skips the slots without); null: Jacobi
+  ContactRows<T>* rows;
+  LS_HD void operator()(int k) const {
+    const BodyArrays<T>& b = d.b;
+    const SceneConsts<T>& sc = d.sc;
+    if (has_immovable != nullptr && ro(has_immovable + k) == 0) return;
+    const int i = ro(d.list + k);
+    clear_faults<T>();
+    const F4 pi4 = ro(b.pos + i);
+    const Vec3<T> p = xyz(pi4), h = xyz(ro(b.half + i));
+    const Mat3<T> R = rotation_matrix(quat(ro(b.rot + i)));
+    const BodyView<T> self = dynamic_view(Vec3<T>{}, Vec3<T>{}, inv_mass_of(pi4), R, xyz(ro(b.inert + i)));
+    const BodyView<T> env = immovable_view<T>();
+    const T tol = sc.immovable_tol(i);
+    const int stride = sc.imm_stride();
+    const long at = static_cast<long>(k) * stride;
+    auto loader = [&](int base) {
+      return [&, base](int e) {
+        const ContactRecord<T>& r = d.imm[at + base + e];
+        return load_state(r.a, r.b);
+      };
+    };
+    if (sc.ground_on) {
+      auto corner_point = [&](int c, Vec3<T>& r1, Vec3<T>& r2, Vec3<T>& n, T& penetration) {
+        return ground_point(p, R, h, c, sc, tol, r1, r2, n, penetration);
+      };
+      form_manifold_rows<8>(self, env, corner_point, loader(0), rows + at);
+    }
+    for (int v = 0; v < sc.n_sdf; ++v) {
+      const int base = sc.ground_slots() + 9 * v;
+      auto sample = [&](int s, Vec3<T>& r1, Vec3<T>& r2, Vec3<T>& n, T& penetration) {
+        return sdf_point(d, k, v, s, p, r1, r2, n, penetration);
+      };
+      form_manifold_rows<9>(self, env, sample, loader(base), rows + at + base);
+    }
+    note_faults<T>(sc.faults, i, kFqImpulse);
+  }
+};
+
+// gpu-fixed's rows of every coloured edge's manifold points (oriented-box
+// model, kRowsOnce<T>), once per frame: what SolveEdgeK's visit of edge e
+// forms, at rows[e * kBoxManifoldPoints]; the flags noted where it notes them.
+template <class T>
+struct EdgeRowsK {
+  using F4 = T4<T>;
+  SolverData<T> d;
+  const int* edges;  // all colours'
+  ContactRows<T>* rows;
+  LS_HD void operator()(int e) const {
+    const BodyArrays<T>& b = d.b;
+    const int t = ro(edges + e);
+    const int i = ro(d.list + t / d.lists.stride), j = ro(d.lists.nbr + t);
+    clear_faults<T>();
+    const F4 pi4 = ro(b.pos + i), pj4 = ro(b.pos + j);
+    const Vec3<T> p = xyz(pi4), pj = xyz(pj4);
+    const PairManifold<T>& rec = d.man[t];
+    const BodyView<T> A = dynamic_view(Vec3<T>{}, Vec3<T>{}, inv_mass_of(pi4), rotation_matrix(quat(ro(b.rot + i))),
+                                       xyz(ro(b.inert + i)));
+    const BodyView<T> B = dynamic_view(Vec3<T>{}, Vec3<T>{}, inv_mass_of(pj4), rotation_matrix(quat(ro(b.rot + j))),
+                                       xyz(ro(b.inert + j)));
+    const int count = rec.count;
+    const Vec3<T> n = xyz(rec.n);
+    auto point = [&](int c, Vec3<T>& r1, Vec3<T>& r2, Vec3<T>& nc, T& penetration) {
+      if (c >= count) return false;
+      const F4 pt = rec.pt[c];
+      r1 = xyz(pt) - p;
+      r2 = xyz(pt) - pj;
+      nc = n;
+      penetration = pt.w;
+      return true;
+    };
+    auto load = [&](int c) { return load_state(rec.st[c].a, rec.st[c].b); };
+    form_manifold_rows<kBoxManifoldPoints>(A, B, point, load, rows + static_cast<long>(e) * kBoxManifoldPoints);
+    note_faults<T>(d.sc.faults, i, kFqImpulseBody);
   }
 };
 

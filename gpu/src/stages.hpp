@@ -13,7 +13,7 @@
 //   gather_stages.hpp            stages 2-4: neighbour lists and eq 81's wake (GatherK)
 //   contact_stages.hpp           stages 3, 5: contacts, supports, preparation (ContactsK);
 //                                eq 112's chain (TipChainK)
-//   solve_stages.hpp             stage 5: the solver's iterations (SolveK, SolveEdgeK)
+//   solve_stages.hpp             stage 5: the solver's iterations (SolveK, SolveEdgeK; gpu-fixed's rows, ImmRowsK, EdgeRowsK)
 //   settle_stages.hpp            stage 6: settling sweeps (SettleK)
 //   correct_stages.hpp           stages 6-8: correction and integration (CorrectIntegrateK)
 //   pair_correct_stages.hpp      stages 7-8, oriented-box model: eqs 110-111, integration
