@@ -14,7 +14,8 @@
 // --model: the pile's "pair_contacts" (default oriented_box, the engines'
 // default; aabb is the source's model of docs/GPU.md's earlier tables).
 // --profile N: only runs the awake pile of N cubes for 41 frames and
-// captures frame 41 for `ncu --profile-from-start off` (docs/GPU.md).
+// captures frame 41 for `ncu --profile-from-start off` (docs/GPU.md); with
+// --number fixed, gpu-fixed's.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -191,13 +192,21 @@ int main(int argc, char** argv) {
   g_options.backend = backend_name == "host" ? lockstep::gpu::Backend::kHost : lockstep::gpu::Backend::kAuto;
   g_options.pair_solver = solver_name == "jacobi" ? lockstep::gpu::GpuOptions::PairSolver::kJacobi
                                                   : lockstep::gpu::GpuOptions::PairSolver::kColoured;
-  if (profile > 0) {
-    GpuWorld g(gpu_test_pile(profile, false, true), g_options);
-    for (int f = 0; f < kWarmFrames; ++f) g.step();
-    lockstep::gpu::profiler_capture(true);
-    g.step();
-    lockstep::gpu::profiler_capture(false);
-    std::printf("profiled frame %d of the %ld-cube pile (%d awake)\n", g.frame(), profile, g.awake_count());
+  if (profile > 0) {  // float, or with --number fixed gpu-fixed
+    auto capture = [&](auto& g) {
+      for (int f = 0; f < kWarmFrames; ++f) g.step();
+      lockstep::gpu::profiler_capture(true);
+      g.step();
+      lockstep::gpu::profiler_capture(false);
+      std::printf("profiled frame %d of the %ld-cube pile (%d awake)\n", g.frame(), profile, g.awake_count());
+    };
+    if (number_name == "fixed") {
+      lockstep::gpu::GpuFixedWorld g(gpu_test_pile(profile, false, true), g_options);
+      capture(g);
+    } else {
+      GpuWorld g(gpu_test_pile(profile, false, true), g_options);
+      capture(g);
+    }
     return 0;
   }
   const lockstep::gpu::DeviceInfo dev = lockstep::gpu::device_info();
