@@ -81,6 +81,7 @@ struct PairCorrectK {
       before_out[t] = mine;
       if (!same_bits(mine, ro(before_in + t))) ++differ;
       const PairManifold<T>& rec = man[t];
+      if (bounces(ro(&rec.st[ro(&rec.deepest)].b))) return;  // bouncing (eq 76): its rebound separates it
       const F4 pj4 = ro(b.pos + j);
       const bool j_awake = is_awake(ro(b.flags + j));
       const bool lower = i < j;
@@ -95,8 +96,7 @@ struct PairCorrectK {
       }
       Vec3<T> pa = lower ? p : q, pb = lower ? q : p;
       const Vec3<T> n = xyz(ro(&rec.n));
-      manifold_correction(pa, lower ? p0 : pj0, pb, lower ? pj0 : p0, n,
-                          pair_correction_depth(bounces(ro(&rec.st[ro(&rec.deepest)].b)), ro(&rec.depth)), inv_a, inv_b,
+      manifold_correction(pa, lower ? p0 : pj0, pb, lower ? pj0 : p0, n, ro(&rec.depth), inv_a, inv_b,
                           is_support_pair(n, sc.P.support_normal_min), sc.P.slop, sc.P.baumgarte);  // eq 110
       p = lower ? pa : pb;
     });
@@ -108,8 +108,8 @@ struct PairCorrectK {
 
 // ---------------------------------------------------------------------------
 // Stage 7, eq 111, after every eq 110 correction: the pairs again in the
-// same order, each point of a pair's manifold (in point order; a bouncing
-// one, e_eff > 0, from depth 0: pair_correction_depth) pushed out of its residual depth by moving and turning
+// same order, each point of a pair's manifold (in point order; bouncing ones,
+// e_eff > 0, skipped) pushed out of its residual depth by moving and turning
 // the two sides (correct_manifold_point: BodyView v = the displacement this
 // stage, w = the turn so far). A support pair moves only its upper side when
 // that side can move; a side that is not awake never moves. One sweep, as
@@ -167,9 +167,9 @@ struct PairTurnK {
       const Vec3<T> pa0 = lower ? p0 : pj0, pb0 = lower ? pj0 : p0;
       const int count = ro(&rec.count);
       for (int c = 0; c < count; ++c) {
+        if (bounces(ro(&rec.st[c].b))) continue;  // a bouncing point separates by its rebound (eq 89)
         const F4 pt = ro(&rec.pt[c]);
-        correct_manifold_point(A, xyz(pt) - pa0, B, xyz(pt) - pb0, n, pair_correction_depth(bounces(ro(&rec.st[c].b)), pt.w),
-                               sc.P.slop, sc.P.baumgarte);  // eq 111
+        correct_manifold_point(A, xyz(pt) - pa0, B, xyz(pt) - pb0, n, pt.w, sc.P.slop, sc.P.baumgarte);  // eq 111
       }
       const BodyView<T>& done = lower ? A : B;
       p = p0 + done.v;
@@ -214,7 +214,7 @@ struct IntegrateK {
     if (man != nullptr) {
       for (int t = lists.begin(k); t < lists.end(k); ++t) {
         const PairManifold<T>& rec = man[t];
-        if (ro(&rec.count) == 0) continue;
+        if (ro(&rec.count) == 0 || bounces(ro(&rec.st[ro(&rec.deepest)].b))) continue;
         const int j = ro(lists.nbr + t);
         const bool j_awake = is_awake(ro(b.flags + j));
         if ((i < j || !j_awake) && (inv_mass_of(pi4) != T{} || (j_awake && inv_mass_of(ro(b.pos + j)) != T{}))) ++corrections;

@@ -398,9 +398,7 @@ void World<T>::correct_positions() {
     return k >= 0 && !bounces(k);
   };
   auto correct = [&](const Contact<T>& c, bool lower_fixed) {
-    const bool bounces = c.state.e > T{} && !tied_point_rests(c);
-    // a bouncing box-box pair (eq 110) still takes what the stage pushed into it
-    if (!c.corrects || (bounces && !(c.b >= 0 && scratch_.oriented_correction))) return;
+    if (!c.corrects || (c.state.e > T{} && !tied_point_rests(c))) return;
     Body<T>& A = bodies_[static_cast<std::size_t>(c.a)];
     T inv_a = A.awake() ? A.inv_mass : T{};
     Vec3<T> ground_p;
@@ -409,7 +407,7 @@ void World<T>::correct_positions() {
     if (inv_a == T{} && inv_b == T{}) return;
     if (B != nullptr && scratch_.oriented_correction) {  // eq 110 (physics/contact.hpp, shared with the GPU engine)
       manifold_correction(A.p, scratch_.corrected_from[static_cast<std::size_t>(c.a)], B->p,
-                          scratch_.corrected_from[static_cast<std::size_t>(c.b)], c.n, pair_correction_depth(bounces, c.correct_depth), inv_a, inv_b,
+                          scratch_.corrected_from[static_cast<std::size_t>(c.b)], c.n, c.correct_depth, inv_a, inv_b,
                           lower_fixed, P_.slop, P_.baumgarte);
       ++counters_.corrections;
       check_faults(c.a, "position correction");
@@ -481,8 +479,8 @@ void World<T>::correct_positions() {
     while (hi < contacts_.size() && contacts_[hi].a == c.a && contacts_[hi].b == c.b) ++hi;
     for (std::size_t k = lo; k < hi; ++k) {
       const Contact<T>& p = contacts_[k];
-      correct_manifold_point(va, p.r1, vb, p.r2, p.n, pair_correction_depth(p.state.e > T{}, p.penetration), P_.slop,
-                             P_.baumgarte);  // eq 111
+      if (p.state.e > T{}) continue;  // a bouncing point separates by its rebound (eq 89)
+      correct_manifold_point(va, p.r1, vb, p.r2, p.n, p.penetration, P_.slop, P_.baumgarte);  // eq 111
     }
     A.p = scratch_.corrected_from[ia] + va.v;
     B.p = scratch_.corrected_from[ib] + vb.v;

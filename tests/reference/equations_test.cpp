@@ -778,23 +778,6 @@ TEST(CombineTest, Eq110MeanDepthAndDeepestPoint) {
   EXPECT_TRUE(is_support_pair(V{0, -0.9, 0.1}, P.support_normal_min));
   EXPECT_FALSE(is_support_pair(V{1, 0, 0}, P.support_normal_min));
 }
-// eqs 110-111: a bouncing pair is corrected from depth 0: only what the
-// stage has pushed its sides into each other (here its lower side lifted
-// 10 cm into it) is taken out, by its upper side (a support pair).
-TEST(CombineTest, Eq110BouncingPairTakesOnlyThePush) {
-  EXPECT_EQ(pair_correction_depth(false, 0.05), 0.05);
-  EXPECT_EQ(pair_correction_depth(true, 0.05), 0.0);
-  const V n{0, -1, 0};  // from b (above) to a (below)
-  V pa{0, 1.1, 0}, pb{0, 2.0, 0};
-  const V pa0{0, 1.0, 0}, pb0{0, 2.0, 0};  // a was lifted 0.1 m by this stage
-  manifold_correction(pa, pa0, pb, pb0, n, pair_correction_depth(true, 0.05), 1.0, 1.0, true, P.slop, P.baumgarte);
-  EXPECT_NEAR(pa.y, 1.1, 1e-12);  // the lower side stays
-  EXPECT_NEAR(pb.y, 2.0 + (0.1 - P.slop) * P.baumgarte, 1e-12);  // the upper one takes the push, not its own 5 cm
-  V qa = pa0, qb = pb0;  // nothing pushed: a bouncing pair is left to its rebound
-  manifold_correction(qa, pa0, qb, pb0, n, pair_correction_depth(true, 0.05), 1.0, 1.0, true, P.slop, P.baumgarte);
-  EXPECT_EQ(qb.y, 2.0);
-  EXPECT_EQ(qa.y, 1.0);
-}
 TEST(CombineTest, Eq89GroundTieRule) {
   const double depth[4] = {0.02, 0.03, 0.03, 0.03};
   const bool bouncing[4] = {false, true, false, false};

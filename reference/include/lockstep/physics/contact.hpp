@@ -182,8 +182,7 @@ LS_HD void baumgarte_correction(Vec3<T>& pa, Vec3<T>& pb, const Vec3<T>& n, cons
 // stage), by eq 89 (pa, pb updated). A support pair (`support_pair`: |n.y| >=
 // support_normal_min) moves only its upper side (n points from b to a: a is
 // upper when n.y > 0), unless that side cannot move. The caller skips pairs
-// whose total inverse mass is 0, and passes a bouncing pair's depth as
-// pair_correction_depth gives it.
+// whose total inverse mass is 0 and bouncing ones (eq 76).
 template <class T>
 LS_HD void manifold_correction(Vec3<T>& pa, const Vec3<T>& pa0, Vec3<T>& pb, const Vec3<T>& pb0, const Vec3<T>& n,
                                const T& depth, T inv_a, T inv_b, bool support_pair, const T& slop, const T& percent) {
@@ -193,19 +192,6 @@ LS_HD void manifold_correction(Vec3<T>& pa, const Vec3<T>& pa0, Vec3<T>& pb, con
   Vec3<T> moved = pa - pa0;
   moved -= pb - pb0;
   baumgarte_correction(pa, pb, n, depth - dot(moved, n), inv_a, inv_b, slop, percent);  // eqs 63, 89
-}
-
-// eqs 89, 110-111: the depth a box-box contact's position correction starts
-// from. A bouncing contact (e_eff > 0, eq 76) separates by its rebound, so
-// its own depth is not corrected (0): only what this stage's corrections of
-// other contacts push its two sides into each other (manifold_correction and
-// correct_manifold_point take the stage's displacement off the depth given).
-// Skipping such a pair altogether let the correction of the pair under it
-// lift the lower box into the bouncing one: pile1000's worst box-box overlap
-// (262 mm) was a cube landing on one that its own support pushed up 12 cm.
-template <class T>
-LS_HD_INLINE T pair_correction_depth(bool bounces, const T& depth) {
-  return bounces ? T{} : depth;
 }
 
 // eq 110: a support pair (|n.y| >= support_normal_min) moves only its upper side.
