@@ -35,7 +35,7 @@ struct BodyContacts {
   T support_gap_min{};
   Vec3<T> arms[kMaxSupportPoints];  // eq 112: the lever arms of its support contacts
   int n_arms = 0;                       // kMaxSupportPoints + 1: too many to look at
-  Vec3<T> hold_arms[kMaxHolds], hold_n[kMaxHolds];  // eq 112: what holds it (holds_body): lever arms, normals towards it
+  Vec3<T> hold_arms[kMaxHolds], hold_n[kMaxHolds];  // eqs 112, 117: what holds it (holds_body): lever arms, normals towards it
   int n_holds = 0;                      // kMaxHolds + 1: too many to look at
   T support_mu = T{};              // eq 116: the first support contact's friction (eq 58)
   int parent = kLoadNone;               // eq 117: fold_load_parent over the support contacts
@@ -56,7 +56,7 @@ struct BodyContacts {
       support_mu = sc.friction ? combined_friction(mu_self, mu2) : T{};  // eq 58, as prepare_contact
     }
   }
-  // eq 112: a contact (normal n towards the body, point) that holds it, in contact order.
+  // eqs 112, 117: a contact (normal n towards the body, point) that holds it, in contact order.
   LS_HD_INLINE void hold(const Vec3<T>& n, T penetration, bool immovable, const Vec3<T>& point, const Params<T>& P) {
     if (holds_body(n, penetration, immovable, P)) add_hold(hold_arms, hold_n, n_holds, point - p, n);
   }

@@ -179,7 +179,7 @@ void World<T>::narrow_phase() {
   scratch_.hold_n.resize(bodies_.size());
   scratch_.n_holds.assign(bodies_.size(), 0);
   std::vector<int>& n_holds = scratch_.n_holds;
-  auto add_holder = [&](int body, const Contact<T>& cc, const Vec3<T>& n) {  // eq 112: what holds it, and which way
+  auto add_holder = [&](int body, const Contact<T>& cc, const Vec3<T>& n) {  // eqs 112, 117: what holds it, and which way
     const auto i = static_cast<std::size_t>(body);
     add_hold(scratch_.hold_arms[i].data(), scratch_.hold_n[i].data(), n_holds[i], cc.point - bodies_[i].p, n);
   };

@@ -237,14 +237,14 @@ LS_HD inline bool leans(bool supported, bool held, bool over_contacts) {
   return held && (!supported || !over_contacts);
 }
 
-// eq 112 (the direction of a hold, 2026-11-28): the contacts that hold a
-// body (holds_body), as lever arms from its centre and normals towards it,
+// eq 117 (the direction of eq 112's holds, 2026-11-28): the contacts that
+// hold a body (holds_body), as lever arms from its centre and normals towards it,
 // in contact order; at most kMaxHolds (n_holds goes up to kMaxHolds + 1:
 // too many to look at, which counts as holding it every way).
 inline constexpr int kMaxHolds = 8;
-// eq 112: a hold blocks a turn when the turn moves its point into it by at
+// eq 117: a hold blocks a turn when the turn moves its point into it by at
 // least 1/kHoldMinInto of the point's speed (7.2 degrees): a hold square to
-// the turn (a wall along the edge the body tips over) is not one, whatever
+// the turn (a wall along the edge a load tips over) is not one, whatever
 // the rounding of its contact points says.
 inline constexpr int kHoldMinInto = 8;
 template <class T>
