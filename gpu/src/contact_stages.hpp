@@ -35,7 +35,8 @@ struct BodyContacts {
   T support_gap_min{};
   Vec3<T> arms[kMaxSupportPoints];  // eq 112: the lever arms of its support contacts
   int n_arms = 0;                       // kMaxSupportPoints + 1: too many to look at
-  bool loaded = false;                  // eq 112: it touches (within slop) something not a support
+  Vec3<T> hold_arms[kMaxHolds], hold_n[kMaxHolds];  // eqs 112, 117: what holds it (holds_body): lever arms, normals towards it
+  int n_holds = 0;                      // kMaxHolds + 1: too many to look at
   T support_mu = T{};              // eq 116: the first support contact's friction (eq 58)
   int parent = kLoadNone;               // eq 117: fold_load_parent over the support contacts
 
@@ -54,6 +55,10 @@ struct BodyContacts {
       support = who;
       support_mu = sc.friction ? combined_friction(mu_self, mu2) : T{};  // eq 58, as prepare_contact
     }
+  }
+  // eqs 112, 117: a contact (normal n towards the body, point) that holds it, in contact order.
+  LS_HD_INLINE void hold(const Vec3<T>& n, T penetration, bool immovable, const Vec3<T>& point, const Params<T>& P) {
+    if (holds_body(n, penetration, immovable, P)) add_hold(hold_arms, hold_n, n_holds, point - p, n);
   }
   // A contact with another active body, normal n_i towards this one: counted in its direction.
   LS_HD_INLINE void count_direction(const Vec3<T>& n_i) {
@@ -106,11 +111,14 @@ struct ContactsK {
   int* can_rest = nullptr;      // per body: statics lets it rest (eq 116 here; eq 117 in LoadOverK)
   // The oriented-box model, eq 117's inputs: per body its load parent; per
   // slot its support points' lever arms (kMaxSupportPoints each), how many
-  // (kMaxSupportPoints + 1: too many) and whether something holds it (eq 112).
+  // (kMaxSupportPoints + 1: too many) and what holds it (eq 112: lever arms
+  // and normals, kMaxHolds each; how many, kMaxHolds + 1: too many).
   int* load_parent = nullptr;
   F4* arms_out = nullptr;
   int* n_arms_out = nullptr;
-  int* held_out = nullptr;
+  F4* hold_arms_out = nullptr;
+  F4* hold_n_out = nullptr;
+  int* n_holds_out = nullptr;
 
   // A contact with an immovable thing (slot e of the body's): its preparation and warm start.
   LS_HD_INLINE void immovable(BodyContacts<T>& c, int e, const Vec3<T>& r1, const Vec3<T>& n, T e2, T mu2,
@@ -141,7 +149,7 @@ struct ContactsK {
       const T depth = ground_corner_depth(c.p, c.R, c.h, q, sc.ground_y, corner);
       if (!(depth > -itol)) continue;
       ++c.ground_contacts;
-      if (holds_body(up, depth, true, sc.P)) c.loaded = true;  // eq 112
+      c.hold(up, depth, true, corner, sc.P);  // eq 112
       c.add_support(sc, kStaticSupport, up, depth, corner,
                     [&] { return contact_closing_speed(c.v0, c.w0, c.p, corner, up); }, sc.ground_mu, false);
       mask |= 1 << q;
@@ -169,7 +177,7 @@ struct ContactsK {
           continue;
         }
         ++c.sdf_contacts;
-        if (holds_body(sd.n, sd.penetration, true, sc.P)) c.loaded = true;  // eq 112
+        c.hold(sd.n, sd.penetration, true, sd.point, sc.P);  // eq 112
         c.add_support(sc, kStaticSupport, sd.n, sd.penetration, sd.point,
                       [&] { return contact_closing_speed(c.v0, c.w0, c.p, sd.point, sd.n); }, mat.y, false);
         immovable(c, e, xyz(c1) - c.p, xyz(c0), mat.x, mat.y, c.had);
@@ -249,7 +257,7 @@ struct ContactsK {
     const int prev_count = prev_t >= 0 ? ro(&prev.man[prev_t].count) : 0;
     SolveCounts here;
     for (int u = 0; u < mf.count; ++u) {
-      if (holds_body(n_i, mf.penetration[u], !j_awake, sc.P)) c.loaded = true;  // eq 112
+      c.hold(n_i, mf.penetration[u], !j_awake, mf.point[u], sc.P);  // eq 112
       c.add_support(sc, j, n_i, mf.penetration[u], mf.point[u],
                     [&] {
                       return lower ? contact_closing_speed(c.v0, c.w0, c.p, other0.v, other0.w, pj, mf.point[u], mf.n)
@@ -280,7 +288,7 @@ struct ContactsK {
     if (!j_awake) ++c.immovable_bodies;
     if (edges.mate != nullptr) init_edge(edges, d.lists, i, t, j, j_awake, c.p.y, pj.y);
     if (j_awake) c.count_direction(n_i);
-    if (holds_body(n_i, pc.penetration, !j_awake, sc.P)) c.loaded = true;  // eq 112
+    c.hold(n_i, pc.penetration, !j_awake, pc.point, sc.P);  // eq 112
     const BodyView<T> other0 = view_of(b, j, b.vel, b.ang);
     c.add_support(sc, j, n_i, pc.penetration, pc.point,
                   [&] {
@@ -306,14 +314,14 @@ struct ContactsK {
     const Vec3<T> n_s = c.support != kNoSupport ? normalize(c.support_sum) : Vec3<T>{};
     support_n[i] = f4(n_s, c.support_gap_min);  // w: the support gap
     if (over_support != nullptr) {
-      const Stance st = stance_of(c.arms, c.n_arms, c.support != kNoSupport, c.loaded, c.w0, sc.P);
+      const Stance st = stance_of(c.arms, c.n_arms, c.support != kNoSupport, c.n_holds > 0, c.w0, sc.P);
       over_support[i] = st.over ? 1 : 0;  // eq 112
       leaning[i] = st.leans ? 1 : 0;      // eq 115
     }
     if (settle_limit != nullptr) {  // eq 116
       const Vec3<T> g = sc.gravity ? sc.P.gravity : Vec3<T>{};
       Footing<T> f;
-      if (c.support != kNoSupport) f = footing_of(c.loaded, sc.oriented, g, n_s, c.support_mu, sc.P);
+      if (c.support != kNoSupport) f = footing_of(c.n_holds > 0, sc.oriented, g, n_s, c.support_mu, sc.P);
       settle_limit[i] = f.limit;
       can_rest[i] = f.can_rest ? 1 : 0;
     }
@@ -323,7 +331,11 @@ struct ContactsK {
       for (int u = 0; u < c.n_arms && u < kMaxSupportPoints; ++u)
         arms_out[k * kMaxSupportPoints + u] = f4(c.arms[u], T{});
       n_arms_out[k] = c.n_arms;
-      held_out[k] = c.loaded ? 1 : 0;
+      n_holds_out[k] = c.n_holds;
+      for (int u = 0; u < c.n_holds && u < kMaxHolds; ++u) {
+        hold_arms_out[k * kMaxHolds + u] = f4(c.hold_arms[u], T{});
+        hold_n_out[k * kMaxHolds + u] = f4(c.hold_n[u], T{});
+      }
     }
   }
 

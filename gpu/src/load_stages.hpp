@@ -55,10 +55,11 @@ struct LoadK {
   }
 };
 
-// After the sweeps: a supported body with load children that nothing holds
-// (eq 112) and whose load's centre is not over its support points tips with
-// its load: not over its support (no settling; eq 112's chain reads it) and
-// it cannot rest (no sleep candidate).
+// After the sweeps: a supported body with load children whose load's centre
+// is not over its support points, unless what holds it (eq 112) blocks
+// every way that load can tip (load_stands), tips with its load: not over
+// its support (no settling; eq 112's chain reads it) and it cannot rest (no
+// sleep candidate).
 template <class T>
 struct LoadOverK {
   using F4 = T4<T>;
@@ -71,12 +72,14 @@ struct LoadOverK {
   const F4* load;      // the sweeps' result
   const F4* arms;      // per slot, kMaxSupportPoints (ContactsK)
   const int* n_arms;   // per slot
-  const int* held;     // per slot
+  const F4* hold_arms;  // per slot, kMaxHolds (ContactsK): what holds it (eq 112)
+  const F4* hold_n;     // per slot, kMaxHolds
+  const int* n_holds;   // per slot
   int* over_support;   // per body
   int* can_rest;       // per body
   LS_HD void operator()(int k) const {
     const int i = ro(list + k);
-    if (ro(support_idx + i) == kNoSupport || ro(held + k) != 0) return;
+    if (ro(support_idx + i) == kNoSupport) return;
     clear_faults<T>();
     bool carries = false;
     for (int t = lists.begin(k), end = lists.end(k); t < end && !carries; ++t) {
@@ -87,8 +90,13 @@ struct LoadOverK {
     Vec3<T> r[kMaxSupportPoints];
     const int count = ro(n_arms + k);
     for (int a = 0; a < count && a < kMaxSupportPoints; ++a) r[a] = xyz(ro(arms + k * kMaxSupportPoints + a));
-    const Vec3<T> up{T{}, Num<T>::from_int(1), T{}};
-    const bool over = load_over_support(r, count, xyz(ro(load + i)), up, length(xyz(ro(b.ang + i))) < sc.P.sleep_angular);
+    Vec3<T> ha[kMaxHolds], hn[kMaxHolds];
+    const int holds = ro(n_holds + k);
+    for (int a = 0; a < holds && a < kMaxHolds; ++a) {
+      ha[a] = xyz(ro(hold_arms + k * kMaxHolds + a));
+      hn[a] = xyz(ro(hold_n + k * kMaxHolds + a));
+    }
+    const bool over = load_stands(r, count, xyz(ro(load + i)), length(xyz(ro(b.ang + i))) < sc.P.sleep_angular, ha, hn, holds);
     note_faults<T>(sc.faults, i, kFqLoad);
     if (over) return;
     over_support[i] = 0;

@@ -324,7 +324,9 @@ class Pipeline final : public PipelineBase<T> {
   Buf<int> load_tips_[2];  // eq 117's tips: its sweeps, per body
   Buf<F4> load_[2];        // eq 117's sweeps, per body: the load's offset (xyz) and mass (w)
   Buf<F4> arms_;           // eq 117, per slot: the support points' lever arms (kMaxSupportPoints each)
-  Buf<int> n_arms_, held_; // eq 117, per slot: how many arms; something holds it (eq 112)
+  Buf<int> n_arms_;        // eq 117, per slot: how many arms
+  Buf<F4> hold_arms_, hold_n_;  // eq 112, per slot: what holds it, lever arms and normals (kMaxHolds each)
+  Buf<int> n_holds_;       // eq 112, per slot: how many
   Buf<int> over_chain_[2];  // eq 112's chain: its sweeps, per body
   Buf<F4> settle_[2];
   Buf<F4> p_tmp_, q_tmp_;
@@ -608,11 +610,15 @@ void Pipeline<B, T>::step() {
       load_parent_.resize(static_cast<std::size_t>(n_) + 1);
       arms_.resize(static_cast<std::size_t>(n_active) * kMaxSupportPoints + 1);
       n_arms_.resize(static_cast<std::size_t>(n_active) + 1);
-      held_.resize(static_cast<std::size_t>(n_active) + 1);
+      hold_arms_.resize(static_cast<std::size_t>(n_active) * kMaxHolds + 1);
+      hold_n_.resize(static_cast<std::size_t>(n_active) * kMaxHolds + 1);
+      n_holds_.resize(static_cast<std::size_t>(n_active) + 1);
       ck.load_parent = load_parent_.data();
       ck.arms_out = arms_.data();
       ck.n_arms_out = n_arms_.data();
-      ck.held_out = held_.data();
+      ck.hold_arms_out = hold_arms_.data();
+      ck.hold_n_out = hold_n_.data();
+      ck.n_holds_out = n_holds_.data();
     }
     be_.for_n(n_active, ck);
   }
@@ -625,7 +631,8 @@ void Pipeline<B, T>::step() {
                                    sc_.faults});
     });
     be_.for_n(n_active, LoadOverK<T>{active, body_, sc_, nl, load_parent_.data(), support_idx_.data(), load_[r].data(),
-                                  arms_.data(), n_arms_.data(), held_.data(), over_support_.data(), can_rest_.data()});
+                                  arms_.data(), n_arms_.data(), hold_arms_.data(), hold_n_.data(), n_holds_.data(),
+                                  over_support_.data(), can_rest_.data()});
     for (auto& buf : load_tips_) buf.resize(static_cast<std::size_t>(n_) + 1);
     be_.fill_int(load_tips_[0].data(), 0, static_cast<std::size_t>(n_) + 1);
     const int t = sweep_until_fixed(n_active + 2, [&](int in, int out, int* changed) {

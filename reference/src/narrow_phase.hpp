@@ -190,7 +190,14 @@ void World<T>::narrow_phase() {
   scratch_.support_arms.resize(bodies_.size());
   scratch_.n_arms.assign(bodies_.size(), 0);
   std::vector<int>& n_arms = scratch_.n_arms;
-  std::vector<char> loaded(bodies_.size(), 0);
+  scratch_.hold_arms.resize(bodies_.size());
+  scratch_.hold_n.resize(bodies_.size());
+  scratch_.n_holds.assign(bodies_.size(), 0);
+  std::vector<int>& n_holds = scratch_.n_holds;
+  auto add_holder = [&](int body, const Contact<T>& cc, const Vec3<T>& n) {  // eqs 112, 117: what holds it, and which way
+    const auto i = static_cast<std::size_t>(body);
+    add_hold(scratch_.hold_arms[i].data(), scratch_.hold_n[i].data(), n_holds[i], cc.point - bodies_[i].p, n);
+  };
   auto add_support = [&](int body, std::size_t ci, const Vec3<T>& n) {  // eqs 75, 98, 112
     const auto i = static_cast<std::size_t>(body);
     const Contact<T>& cc = contacts_[ci];
@@ -210,14 +217,14 @@ void World<T>::narrow_phase() {
     // eq 112's holds; immovable: ground, SDF, static, asleep
     const bool a_immovable = !bodies_[static_cast<std::size_t>(c.a)].awake();
     const bool b_immovable = c.b < 0 || !bodies_[static_cast<std::size_t>(c.b)].awake();
-    if (holds_body(c.n, c.penetration, b_immovable, P_)) loaded[static_cast<std::size_t>(c.a)] = 1;
-    if (c.b >= 0 && holds_body(-c.n, c.penetration, a_immovable, P_)) loaded[static_cast<std::size_t>(c.b)] = 1;
+    if (holds_body(c.n, c.penetration, b_immovable, P_)) add_holder(c.a, c, c.n);
+    if (c.b >= 0 && holds_body(-c.n, c.penetration, a_immovable, P_)) add_holder(c.b, c, -c.n);
     add_support(c.a, ci, c.n);
     if (c.b >= 0) add_support(c.b, ci, -c.n);
   }
   parallel_for(bodies_.size(), 64, [&](std::size_t i, int) {  // each body alone
     if (support_[i] >= 0) support_n_[i] = normalize(support_n_[i]);
-    const Stance st = stance_of(scratch_.support_arms[i].data(), n_arms[i], support_[i] >= 0, loaded[i] != 0, bodies_[i].w, P_);
+    const Stance st = stance_of(scratch_.support_arms[i].data(), n_arms[i], support_[i] >= 0, n_holds[i] > 0, bodies_[i].w, P_);
     over_support_[i] = st.over;              // eq 112
     leaning_[i] = oriented && st.leans ? 1 : 0;  // eq 115
     check_faults(static_cast<int>(i), "support normal and stance (eqs 98, 112)");
@@ -242,7 +249,7 @@ void World<T>::narrow_phase() {
     const auto i = static_cast<std::size_t>(idx);
     const Contact<T>& c = contacts_[static_cast<std::size_t>(support_[i])];
     const T mu = scene_.effects.friction ? combined_friction(material_mu(c.a), material_mu(c.b)) : T{};
-    const Footing<T> f = footing_of(loaded[i] != 0, oriented, g, support_n_[i], mu, P_);
+    const Footing<T> f = footing_of(n_holds[i] > 0, oriented, g, support_n_[i], mu, P_);
     can_rest_[i] = f.can_rest ? 1 : 0;
     settle_limit_[i] = f.limit;
   }
@@ -283,7 +290,6 @@ void World<T>::narrow_phase() {
     scratch_.load_mass.resize(bodies_.size());
     scratch_.load_offset.resize(bodies_.size());
     scratch_.load_tips.resize(bodies_.size());
-    const T one = Num<T>::from_int(1);
     for (auto it = scratch_.settle_order.rbegin(); it != scratch_.settle_order.rend(); ++it) {
       const int idx = *it;
       const auto i = static_cast<std::size_t>(idx);
@@ -292,10 +298,10 @@ void World<T>::narrow_phase() {
       const bool carries = first != last;
       bool child_tips = false;
       for (auto c = first; c != last; ++c) child_tips = child_tips || scratch_.load_tips[static_cast<std::size_t>(c->second)] != 0;
-      // no load children, or held: eq 112's answer stands
-      if (carries && loaded[i] == 0 &&
-          !load_over_support(scratch_.support_arms[i].data(), n_arms[i], scratch_.load_offset[i], Vec3<T>{T{}, one, T{}},
-                             length(bodies_[i].w) < P_.sleep_angular)) {
+      // no load children: eq 112's answer stands; held: only where the holds block its load's every way to tip
+      if (carries && !load_stands(scratch_.support_arms[i].data(), n_arms[i], scratch_.load_offset[i],
+                                  length(bodies_[i].w) < P_.sleep_angular, scratch_.hold_arms[i].data(),
+                                  scratch_.hold_n[i].data(), n_holds[i])) {
         over_support_[i] = 0;
         can_rest_[i] = 0;
       }

@@ -398,6 +398,8 @@ class World {
     std::vector<char> load_tips;       // stage 3 scratch: per body, something in its load tips (eq 117)
     std::vector<std::array<Vec3<T>, kMaxSupportPoints>> support_arms;  // stage 3 scratch: per body, its support contacts' lever arms (eq 112)
     std::vector<int> n_arms;           // stage 3 scratch: per body, how many (kMaxSupportPoints + 1: too many to look at)
+    std::vector<std::array<Vec3<T>, kMaxHolds>> hold_arms, hold_n;  // stage 3 scratch: per body, what holds it (eqs 112, 117): lever arms, normals towards it
+    std::vector<int> n_holds;          // stage 3 scratch: per body, how many (kMaxHolds + 1: too many to look at)
     std::vector<std::pair<int, int>> sleeper_children;  // stage 3 scratch: (sleeping parent, child), sorted (eq 124)
     std::vector<int> sleeper_loads;    // stage 3 scratch: the sleepers whose load eq 124 forms, top down
     std::vector<Vec3<T>> corrected_from;  // per body: its position before this frame's correction (eq 89 order)

@@ -237,12 +237,84 @@ LS_HD inline bool leans(bool supported, bool held, bool over_contacts) {
   return held && (!supported || !over_contacts);
 }
 
+// eq 117 (the direction of eq 112's holds, 2026-11-28): the contacts that
+// hold a body (holds_body), as lever arms from its centre and normals towards it,
+// in contact order; at most kMaxHolds (n_holds goes up to kMaxHolds + 1:
+// too many to look at, which counts as holding it every way).
+inline constexpr int kMaxHolds = 8;
+// eq 117: a hold blocks a turn when the turn moves its point into it by at
+// least 1/kHoldMinInto of the point's speed (7.2 degrees): a hold square to
+// the turn (a wall along the edge a load tips over) is not one, whatever
+// the rounding of its contact points says.
+inline constexpr int kHoldMinInto = 8;
+template <class T>
+LS_HD void add_hold(Vec3<T>* arms, Vec3<T>* normals, int& n_holds, const Vec3<T>& arm, const Vec3<T>& n) {
+  if (n_holds < kMaxHolds) {
+    arms[n_holds] = arm;
+    normals[n_holds] = n;
+  }
+  if (n_holds <= kMaxHolds) ++n_holds;
+}
+
+// eq 117 with the direction of eq 112's holds (2026-11-28): whether the
+// holds block every way the centre c = p + offset (a load's centre) can tip
+// over the support points (lever arms r from p, count of them). A way to
+// tip is a turn about a line through a support point r_j, seen along up a
+// supporting line of the points with c strictly beyond it: along a unit e,
+// either towards another point (e = r_k - r_j, an edge of their hull) or
+// across c (e = (c - r_j) x up: about a corner), with (e x (c - r_j)).up >
+// 0 (c beyond) and no (e x (r_m - r_j)).up > 0 (every point on the line or
+// behind it). Turning about it (spin -e: c goes down), a point P moves at
+// -e x (P - r_j); a hold (point P, normal n towards the body) blocks the
+// turn when that motion runs into it at more than 7.2 degrees:
+// (e x (P - r_j)).n > |e x (P - r_j)| / kHoldMinInto (longer_than: Q16
+// without the root). Every way blocked: the holds keep the load where it
+// is; one free: it tips, whatever else touches it. No holds: false; more
+// than kMaxHolds holds, more than kMaxSupportPoints support points or none:
+// true (held, as before). Frictionless statics of one turn at a time;
+// `direction_of` gives each e unit length (no e: no way). O(count^2 (count
+// + n_holds)) products, asked only of a held body with load children whose
+// load's centre is not over its points. *Why:* a cube tipping over the edge
+// of the cube under it with its load (the cube on it), a fallen cube
+// leaning on its side and pushing across the way they tipped, counted as
+// held: eq 117 left its load alone, settled (eqs 72-74 take 60 % of its
+// spin a frame) it fell asleep with the load 2.3 cm beyond the edge (the
+// float engine's overhang tower 3,122; HeldAcrossTest).
+template <class T>
+LS_HD bool holds_block_tip(const Vec3<T>* r, int count, const Vec3<T>& offset, const Vec3<T>* hold_arm,
+                           const Vec3<T>* hold_n, int n_holds) {
+  if (n_holds == 0) return false;
+  if (n_holds > kMaxHolds || count > kMaxSupportPoints || count == 0) return true;
+  const Vec3<T> up{T{}, Num<T>::from_int(1), T{}};
+  for (int j = 0; j < count; ++j) {
+    const Vec3<T> rj = r[j] - offset;  // from c
+    for (int k = -1; k < count; ++k) {
+      if (k == j) continue;
+      Vec3<T> e;
+      if (!direction_of(k < 0 ? cross(-rj, up) : (r[k] - offset) - rj, e)) continue;
+      if (!(cross(e, -rj).y > T{})) continue;  // c not beyond the line
+      bool supporting = true;
+      for (int m = 0; m < count && supporting; ++m) supporting = !(cross(e, (r[m] - offset) - rj).y > T{});
+      if (!supporting) continue;
+      bool blocked = false;
+      for (int h = 0; h < n_holds && !blocked; ++h) {
+        const Vec3<T> turn = cross(e, (hold_arm[h] - offset) - rj);  // -(the hold point's motion), unit spin
+        const T into = dot(turn, hold_n[h]);
+        blocked = into > T{} && !longer_than(turn, into * Num<T>::from_int(kHoldMinInto));
+      }
+      if (!blocked) return false;
+    }
+  }
+  return true;
+}
+
 // eqs 112, 115: a body's stance from its contacts. `over`: it is over its
 // support: something holds it (`held`, holds_body), it has no support
 // contact (`supported` false: nothing to tip about), or its centre, seen
 // along up, is over its support points (over_support on the lever arms
 // `arms`, n_arms of them; a centre on the boundary counts while it turns
-// slower than sleep_angular). `leans`: eq 115.
+// slower than sleep_angular). `leans`: eq 115. (A load's centre, eq 117,
+// asks more of a hold: load_stands.)
 struct Stance {
   bool over = true;
   bool leans = false;
@@ -407,6 +479,16 @@ LS_HD bool load_over_support(const Vec3<T>* r, int count, const Vec3<T>& offset,
   Vec3<T> shifted[kMaxSupportPoints];
   for (int k = 0; k < count; ++k) shifted[k] = r[k] - offset;
   return over_support(shifted, count, n, boundary_over);
+}
+
+// eq 117 with eq 112's holds: a body's load stands when its centre is over
+// its support points (load_over_support) or the holds block every way it
+// can tip about them (holds_block_tip, from the load's centre).
+template <class T>
+LS_HD bool load_stands(const Vec3<T>* r, int count, const Vec3<T>& offset, bool boundary_over,
+                       const Vec3<T>* hold_arms, const Vec3<T>* hold_n, int n_holds) {
+  return load_over_support(r, count, offset, Vec3<T>{T{}, Num<T>::from_int(1), T{}}, boundary_over) ||
+         holds_block_tip(r, count, offset, hold_arms, hold_n, n_holds);
 }
 
 // eq 124 (Part 4): a sleeper under a load. A body falling asleep (eq 80)
