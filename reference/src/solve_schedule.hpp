@@ -59,16 +59,6 @@ inline constexpr bool kPassesOnThreads = false;
 #else
 inline constexpr bool kPassesOnThreads = true;
 
-namespace schedule_detail {
-inline void relax() {
-#if defined(__x86_64__) || defined(__i386__)
-  __builtin_ia32_pause();
-#elif defined(__aarch64__) || defined(__arm__)
-  asm volatile("yield");
-#endif
-}
-}  // namespace schedule_detail
-
 // Runs `passes` passes of plan's visits on pool's threads (plan.part.size()
 // parts): `visit(v, pass, part)`. Odd passes run backwards when `alternate`
 // (eq 125's symmetric Gauss-Seidel). `begin_part(part)` runs first on each part.
@@ -106,7 +96,7 @@ void run_passes(ThreadPool& pool, const PassPlan& plan, int passes, bool alterna
             const int now = d.load(std::memory_order_acquire);
             if ((now & kCountMask) >= need[s]) break;
             if (place > first_failed.load(std::memory_order_relaxed)) return;
-            if (spins < kSpins) schedule_detail::relax();
+            if (spins < kSpins) spin_pause();
             else d.wait(now, std::memory_order_acquire);  // (more threads than cores: block, do not spin)
           }
         }

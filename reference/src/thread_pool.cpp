@@ -23,22 +23,14 @@ namespace {
 // next one; between stages it blocks, so that it does not slow the caller's
 // serial work (a spinning hyperthread sibling halves it).
 constexpr auto kSpin = std::chrono::microseconds(50);
-// A spin loop's pause: lets the sibling hyperthread run.
-inline void relax() {
-#if defined(__x86_64__) || defined(__i386__)
-  __builtin_ia32_pause();
-#elif defined(__aarch64__) || defined(__arm__)
-  asm volatile("yield");
-#endif
-}
-// Spins (with relax) until done() or kSpin has passed; returns done().
+// Spins (with spin_pause) until done() or kSpin has passed; returns done().
 template <class Done>
 bool spin(const Done& done) {
   const auto until = std::chrono::steady_clock::now() + kSpin;
   for (;;) {
     for (int k = 0; k < 64; ++k) {
       if (done()) return true;
-      relax();
+      spin_pause();
     }
     if (std::chrono::steady_clock::now() >= until) return done();
   }

@@ -19,6 +19,16 @@
 
 namespace lockstep {
 
+// A spin loop's pause: lets the sibling hyperthread run (the pool's waits and
+// the solver's chains, solve_schedule.hpp).
+inline void spin_pause() {
+#if defined(__x86_64__) || defined(__i386__)
+  __builtin_ia32_pause();
+#elif defined(__aarch64__) || defined(__arm__)
+  asm volatile("yield");
+#endif
+}
+
 class ThreadPool {
  public:
   // `threads` >= 1 threads in all: the caller and threads - 1 workers.
