@@ -70,7 +70,9 @@ void World<T>::broad_phase() {
   // Each body's grown box and cells (eqs 29-30, 26), the bodies in parallel
   // on the world's threads; each part lists its bodies' cell entries.
   const int parts = std::max(1, workers_.threads);
-  std::vector<std::vector<Entry>> part_entries(static_cast<std::size_t>(parts));  // (a few per frame)
+  std::vector<std::vector<Entry>>& part_entries = g.part_entries;
+  part_entries.resize(static_cast<std::size_t>(parts));
+  for (std::vector<Entry>& pe : part_entries) pe.clear();
   std::vector<std::int64_t> cell_count(n);
   parallel_for(n, 64, [&](std::size_t i, int part) {
     const Body<T>& b = bodies_[i];
@@ -119,8 +121,11 @@ void World<T>::broad_phase() {
   // The cells swept in parallel: the entries cut into `parts` ranges at cell
   // boundaries, each part's pairs in its own list (pairs_ is sorted at the end).
   const std::size_t sweeps = std::max<std::size_t>(1, std::min<std::size_t>(static_cast<std::size_t>(parts), entries.size() / 256));
-  std::vector<std::vector<std::pair<int, int>>> part_pairs(sweeps);
-  std::vector<std::vector<int>> part_members(sweeps);
+  std::vector<std::vector<std::pair<int, int>>>& part_pairs = g.part_pairs;
+  std::vector<std::vector<int>>& part_members = g.part_members;
+  part_pairs.resize(sweeps);
+  part_members.resize(sweeps);
+  for (std::vector<std::pair<int, int>>& pp : part_pairs) pp.clear();
   parallel_for(sweeps, 1, [&](std::size_t part, int) {
     std::vector<std::pair<int, int>>& out = part_pairs[part];
     auto cell_start = [&](std::size_t k) {  // the first entry of the cell holding entry k (or entries.size())
@@ -154,8 +159,13 @@ void World<T>::broad_phase() {
       }
       s = e;
     }
+    std::sort(out.begin(), out.end());
   });
-  for (const std::vector<std::pair<int, int>>& out : part_pairs) pairs_.insert(pairs_.end(), out.begin(), out.end());
+  for (const std::vector<std::pair<int, int>>& out : part_pairs) {  // sorted part by part, then merged
+    const auto mid = static_cast<std::ptrdiff_t>(pairs_.size());
+    pairs_.insert(pairs_.end(), out.begin(), out.end());
+    std::inplace_merge(pairs_.begin(), pairs_.begin() + mid, pairs_.end());
+  }
   // Large bodies: against every other body; a pair of two large bodies once.
   for (int L : large) {
     const auto l = static_cast<std::size_t>(L);
@@ -167,7 +177,7 @@ void World<T>::broad_phase() {
       maybe_pair(L, static_cast<int>(k), pairs_);
     }
   }
-  std::sort(pairs_.begin(), pairs_.end());
+  if (!large.empty()) std::sort(pairs_.begin(), pairs_.end());  // (the large bodies' pairs come after the merged ones)
 }
 
 }  // namespace lockstep

@@ -76,28 +76,49 @@ void World<T>::solve_contacts() {
     check_faults(c.a, "contact preparation");
   });
   // eq 96: warm start from last frame's normal impulse of the same contact
-  // (same bodies, same feature), applied in contact order.
+  // (same bodies, same feature), applied in contact order: each contact's
+  // impulse and its velocity changes (which the velocities do not enter),
+  // then each body adds its contacts' changes in contact order (the
+  // additions of the serial loop, in its order). A Q16 fault is reported
+  // for the first contact that raised one, as the serial loop would.
   if (!warm_.empty()) {
-    for (Contact<T>& c : contacts_) {
-      const auto it = std::lower_bound(warm_.begin(), warm_.end(), c, [](const CachedImpulse& w, const Contact<T>& k) {
-        return w.a != k.a ? w.a < k.a : (w.b != k.b ? w.b < k.b : w.feature < k.feature);
+    scratch_.warm_delta.resize(contacts_.size());
+    scratch_.warm_faults.assign(contacts_.size() * 3, 0u);
+    std::vector<char>& warmed = scratch_.warmed;
+    warmed.assign(contacts_.size(), 0);
+    parallel_for(contacts_.size(), 64, [&](std::size_t k, int) {
+      Contact<T>& c = contacts_[k];
+      const auto it = std::lower_bound(warm_.begin(), warm_.end(), c, [](const CachedImpulse& w, const Contact<T>& x) {
+        return w.a != x.a ? w.a < x.a : (w.b != x.b ? w.b < x.b : w.feature < x.feature);
       });
-      if (it == warm_.end() || it->a != c.a || it->b != c.b || it->feature != c.feature) continue;
-      BodyView<T> A = solver::view_of(bodies_, c.a);
-      BodyView<T> B = solver::view_of(bodies_, c.b);
-      warm_start_contact(A, c.r1, B, c.r2, c.n, c.state, it->j_n, P_);
-      if (A.inv_mass > T{}) { Body<T>& b = bodies_[static_cast<std::size_t>(c.a)]; b.v = A.v; b.w = A.w; }
-      if (B.inv_mass > T{}) { Body<T>& b = bodies_[static_cast<std::size_t>(c.b)]; b.v = B.v; b.w = B.w; }
-      check_faults(c.a, "warm start impulse");
+      if (it == warm_.end() || it->a != c.a || it->b != c.b || it->feature != c.feature) return;
+      const BodyView<T> A = solver::view_of(bodies_, c.a), B = solver::view_of(bodies_, c.b);
+      warmed[k] = warm_start_delta(A, c.r1, B, c.r2, c.n, c.state, it->j_n, P_, scratch_.warm_delta[k]) ? 1 : 0;
+      scratch_.warm_faults[3 * k] = Num<T>::take_faults();
+    });
+    parallel_for(bodies_.size(), 64, [&](std::size_t i, int) {
+      Body<T>& b = bodies_[i];
+      if (!b.awake() || !(b.inv_mass > T{})) return;
+      for (int k = scratch_.body_contact_begin[i]; k < scratch_.body_contact_begin[i + 1]; ++k) {
+        const auto ci = static_cast<std::size_t>(scratch_.body_contacts[static_cast<std::size_t>(k)]);
+        if (!warmed[ci]) continue;
+        const ImpulseDelta<T>& d = scratch_.warm_delta[ci];
+        const bool side_a = contacts_[ci].a == static_cast<int>(i);
+        if (side_a) {  // apply_delta's additions on this side
+          b.v += d.va;
+          b.w += d.wa;
+        } else {
+          b.v -= d.vb;
+          b.w -= d.wb;
+        }
+        scratch_.warm_faults[3 * ci + (side_a ? 1 : 2)] = Num<T>::take_faults();
+      }
+    });
+    for (std::size_t k = 0; k < contacts_.size(); ++k) {
+      const std::uint32_t f = scratch_.warm_faults[3 * k] | scratch_.warm_faults[3 * k + 1] | scratch_.warm_faults[3 * k + 2];
+      if (f != 0) throw RunError(frame_, contacts_[k].a, "warm start impulse", q16_flag_name(f));
     }
   }
-  // Iterations (eqs 94, 95, 97). A body's contacts with one environment
-  // object (its ground corners, its samples of one SDF) and a body pair's
-  // box-box points (eqs 100-106) form a manifold that is solved Jacobi-style
-  // (eq 99, solve_manifold); with the source's AABB pair model a body pair is
-  // one contact (solve_contact, effective masses unscaled). The visits follow
-  // each other Gauss-Seidel-style in the order of eqs 125-127
-  // (physics/solve_order.hpp), parallel by construction.
   const T one = Num<T>::from_int(1);
   const bool oriented = scene_.pair_contacts == PairModel::kOrientedBox;
   // The visits: a manifold (consecutive contacts of one body with one other
@@ -303,41 +324,13 @@ void World<T>::solve_contacts() {
       plan.body[static_cast<std::size_t>(v)] = {awake(c.a) ? c.a : -1, awake(c.b) ? c.b : -1};
     }
     plan.rank_visits(visits.size(), bodies_.size());
-    // The parts: the awake bodies by (x, index), cut into `parts` runs of
-    // about equal contact points (neighbours in space share few edges); a
-    // visit goes to the part of its first awake body. (Which part runs a
-    // visit never changes its bits, only how long the parts wait.)
-    std::vector<std::pair<int, int>> weight;  // (body, contact points of its visits)
-    std::vector<int> owner(bodies_.size(), -1);
-    for (int v : plan.order) {
-      const auto& vis = visits[static_cast<std::size_t>(v)];
-      const int points = static_cast<int>(vis.second - vis.first);
-      for (int b : plan.body[static_cast<std::size_t>(v)]) {
-        if (b < 0) continue;
-        if (owner[static_cast<std::size_t>(b)] < 0) {
-          owner[static_cast<std::size_t>(b)] = static_cast<int>(weight.size());
-          weight.emplace_back(b, 0);
-        }
-        weight[static_cast<std::size_t>(owner[static_cast<std::size_t>(b)])].second += points;
-      }
-    }
-    std::sort(weight.begin(), weight.end(), [&](const std::pair<int, int>& x, const std::pair<int, int>& y) {
-      const T xa = bodies_[static_cast<std::size_t>(x.first)].p.x, ya = bodies_[static_cast<std::size_t>(y.first)].p.x;
-      return xa < ya || (xa == ya && x.first < y.first);
-    });
-    std::int64_t total = 0;
-    for (const auto& w : weight) total += w.second;
-    std::int64_t before = 0;
-    for (const auto& w : weight) {
-      owner[static_cast<std::size_t>(w.first)] = static_cast<int>(std::min<std::int64_t>(parts - 1, before * parts / std::max<std::int64_t>(total, 1)));
-      before += w.second;
-    }
-    plan.part.resize(static_cast<std::size_t>(parts));
-    for (std::vector<int>& l : plan.part) l.clear();
-    for (int v : plan.order) {
-      const std::array<int, 2>& b = plan.body[static_cast<std::size_t>(v)];
-      plan.part[static_cast<std::size_t>(owner[static_cast<std::size_t>(b[0] >= 0 ? b[0] : b[1])])].push_back(v);
-    }
+    plan.cut(
+        parts, bodies_.size(),
+        [&](int v) { return static_cast<std::int64_t>(visits[static_cast<std::size_t>(v)].second - visits[static_cast<std::size_t>(v)].first); },
+        [&](int a, int b) {
+          const T xa = bodies_[static_cast<std::size_t>(a)].p.x, xb = bodies_[static_cast<std::size_t>(b)].p.x;
+          return xa < xb || (xa == xb && a < b);
+        });
     if (!workers_.pool) workers_.pool = std::make_shared<ThreadPool>(workers_.threads);
     for (SolveCounts& c : part_counts) c = SolveCounts{};
     run_passes(

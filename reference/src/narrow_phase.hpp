@@ -26,6 +26,8 @@ void World<T>::narrow_phase() {
   // alone), then their contacts appended in pair order.
   if (oriented) {
     scratch_.pair_manifolds.resize(pairs_.size());
+    scratch_.pair_deepest.resize(pairs_.size());
+    scratch_.pair_depth.resize(pairs_.size());
     parallel_for(pairs_.size(), 64, [&](std::size_t k, int) {
       const auto [i, j] = pairs_[k];
       const Body<T>& A = bodies_[static_cast<std::size_t>(i)];
@@ -40,38 +42,42 @@ void World<T>::narrow_phase() {
       }
       const T pair_tol = (ga - half_tol) + (gb - half_tol) + P_.contact_tolerance;
       m = box_box_manifold(A.p, A.R, A.half, B.p, B.R, B.half, pair_tol);
+      if (m.count > 0) {  // eq 110: only the deepest point (first on ties) corrects the pair, by the mean depth of its points
+        scratch_.pair_deepest[k] = deepest_point(m.penetration, m.count);
+        scratch_.pair_depth[k] = mean_depth(m.penetration, m.count);
+      }
       check_faults(i, "box-box contact");
     });
   }
-  for (std::size_t pk = 0; pk < pairs_.size(); ++pk) {
-    const auto [i, j] = pairs_[pk];
-    const Body<T>& A = bodies_[static_cast<std::size_t>(i)];
-    const Body<T>& B = bodies_[static_cast<std::size_t>(j)];
-    ++counters_.pairs_tested;
-    if (oriented) {
-      // only the deepest point (first on ties) carries the pair's position
-      // correction (eq 89), as on the ground
+  counters_.pairs_tested += pairs_.size();
+  if (oriented) {
+    // The pairs' points in pair order: each pair's place by a running sum,
+    // then the pairs filled in parallel.
+    std::vector<int>& first = scratch_.pair_first;
+    first.resize(pairs_.size() + 1);
+    first[0] = 0;
+    for (std::size_t pk = 0; pk < pairs_.size(); ++pk) first[pk + 1] = first[pk] + scratch_.pair_manifolds[pk].count;
+    pair_contacts.resize(static_cast<std::size_t>(first.back()));
+    counters_.body_contacts += static_cast<std::uint64_t>(first.back());
+    parallel_for(pairs_.size(), 64, [&](std::size_t pk, int) {
       const BoxManifold<T>& m = scratch_.pair_manifolds[pk];
-      const auto first = pair_contacts.size();
       for (int k = 0; k < m.count; ++k) {
-        Contact<T> c;
-        c.a = i;
-        c.b = j;
+        Contact<T>& c = pair_contacts[static_cast<std::size_t>(first[pk] + k)];
+        c.a = pairs_[pk].first;
+        c.b = pairs_[pk].second;
         c.n = m.n;
         c.penetration = m.penetration[k];
         c.point = m.point[k];
         c.feature = m.feature[k];
-        c.corrects = false;
-        pair_contacts.push_back(c);
-        ++counters_.body_contacts;
+        c.corrects = k == scratch_.pair_deepest[pk];
+        if (c.corrects) c.correct_depth = scratch_.pair_depth[pk];
       }
-      if (m.count > 0) {  // eq 110: the pair is corrected by the mean depth of its points
-        Contact<T>& d = pair_contacts[first + static_cast<std::size_t>(deepest_point(m.penetration, m.count))];
-        d.correct_depth = mean_depth(m.penetration, m.count);
-        d.corrects = true;
-      }
-      continue;
-    }
+    });
+  }
+  for (std::size_t pk = 0; pk < pairs_.size() && !oriented; ++pk) {
+    const auto [i, j] = pairs_[pk];
+    const Body<T>& A = bodies_[static_cast<std::size_t>(i)];
+    const Body<T>& B = bodies_[static_cast<std::size_t>(j)];
     const PairContact<T> pc = pair_contact(A.p, A.aabb_half, B.p, B.aabb_half, half_tol, tol);
     if (!pc.hit) continue;
     {
@@ -91,13 +97,14 @@ void World<T>::narrow_phase() {
   // The environment's contacts, body by body (each a function of its body
   // alone): the bodies in parallel on the world's threads, in contiguous
   // ranges whose contacts are then appended in range order, so in body order.
-  struct EnvContacts {
-    std::vector<Contact<T>> contacts;
-    std::uint64_t ground = 0, sdf = 0;
-  };
-  std::vector<EnvContacts> env(static_cast<std::size_t>(workers_.threads));
+  std::vector<EnvPart>& env = scratch_.env_parts;
+  env.resize(static_cast<std::size_t>(workers_.threads));
+  for (EnvPart& e : env) {
+    e.contacts.clear();
+    e.ground = e.sdf = 0;
+  }
   parallel_for(bodies_.size(), 64, [&](std::size_t i, int part) {
-    EnvContacts& out = env[static_cast<std::size_t>(part)];
+    EnvPart& out = env[static_cast<std::size_t>(part)];
     std::vector<Contact<T>>& list = out.contacts;
     const Body<T>& b = bodies_[i];
     if (!b.awake()) return;  // 7.3
@@ -162,7 +169,7 @@ void World<T>::narrow_phase() {
       }
     }
   });
-  for (EnvContacts& e : env) {
+  for (const EnvPart& e : env) {
     contacts_.insert(contacts_.end(), e.contacts.begin(), e.contacts.end());
     counters_.ground_contacts += e.ground;
     counters_.sdf_contacts += e.sdf;
@@ -212,17 +219,37 @@ void World<T>::narrow_phase() {
         support_[i] < 0)
       support_[i] = static_cast<int>(ci);
   };
-  for (std::size_t ci = 0; ci < contacts_.size(); ++ci) {
-    const Contact<T>& c = contacts_[ci];
-    // eq 112's holds; immovable: ground, SDF, static, asleep
-    const bool a_immovable = !bodies_[static_cast<std::size_t>(c.a)].awake();
-    const bool b_immovable = c.b < 0 || !bodies_[static_cast<std::size_t>(c.b)].awake();
-    if (holds_body(c.n, c.penetration, b_immovable, P_)) add_holder(c.a, c, c.n);
-    if (c.b >= 0 && holds_body(-c.n, c.penetration, a_immovable, P_)) add_holder(c.b, c, -c.n);
-    add_support(c.a, ci, c.n);
-    if (c.b >= 0) add_support(c.b, ci, -c.n);
+  // Per body its contacts in contact order (body_contacts), then each body
+  // alone: its holds and supports, its contacts in contact order, and its stance.
+  std::vector<int>& first_contact = scratch_.body_contact_begin;
+  std::vector<int>& body_contacts = scratch_.body_contacts;
+  first_contact.assign(bodies_.size() + 1, 0);
+  for (const Contact<T>& c : contacts_) {
+    ++first_contact[static_cast<std::size_t>(c.a) + 1];
+    if (c.b >= 0) ++first_contact[static_cast<std::size_t>(c.b) + 1];
+  }
+  for (std::size_t i = 0; i < bodies_.size(); ++i) first_contact[i + 1] += first_contact[i];
+  body_contacts.resize(static_cast<std::size_t>(first_contact.back()));
+  {
+    std::vector<int> at(first_contact.begin(), first_contact.end() - 1);
+    for (std::size_t ci = 0; ci < contacts_.size(); ++ci) {
+      const Contact<T>& c = contacts_[ci];
+      body_contacts[static_cast<std::size_t>(at[static_cast<std::size_t>(c.a)]++)] = static_cast<int>(ci);
+      if (c.b >= 0) body_contacts[static_cast<std::size_t>(at[static_cast<std::size_t>(c.b)]++)] = static_cast<int>(ci);
+    }
   }
   parallel_for(bodies_.size(), 64, [&](std::size_t i, int) {  // each body alone
+    const int body = static_cast<int>(i);
+    for (int k = first_contact[i]; k < first_contact[i + 1]; ++k) {
+      const auto ci = static_cast<std::size_t>(body_contacts[static_cast<std::size_t>(k)]);
+      const Contact<T>& c = contacts_[ci];
+      const int other = c.a == body ? c.b : c.a;
+      const Vec3<T> n = c.a == body ? c.n : -c.n;  // towards this body
+      // eq 112's holds; immovable: ground, SDF, static, asleep
+      const bool other_immovable = other < 0 || !bodies_[static_cast<std::size_t>(other)].awake();
+      if (holds_body(n, c.penetration, other_immovable, P_)) add_holder(body, c, n);
+      add_support(body, ci, n);
+    }
     if (support_[i] >= 0) support_n_[i] = normalize(support_n_[i]);
     const Stance st = stance_of(scratch_.support_arms[i].data(), n_arms[i], support_[i] >= 0, n_holds[i] > 0, bodies_[i].w, P_);
     over_support_[i] = st.over;              // eq 112

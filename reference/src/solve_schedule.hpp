@@ -5,13 +5,23 @@
 // its own contacts and records) is fixed by the visits of its two bodies
 // that come before it in the serial order. Each awake body's visits
 // therefore form one chain through all the passes, and any execution that
-// runs every chain in order gives the serial order's bits: a visit runs once
-// each of its bodies has seen the visits before it (a count per body, its
-// ticket), with no barrier between the steps.
+// runs every chain in order gives the serial order's bits.
 //
-// Each part (thread) runs its visits in the serial order; every visit it
-// waits for comes before its own in that order, so the first unfinished
-// visit can always run (no deadlock). A RunError stops a part at that
+// Two kinds of work, both in that order:
+// - An island (the awake bodies joined by edges, with their visits) that one
+//   part holds whole shares no body with any other visit: the part runs all
+//   its passes in a row, with no waiting at all; a part that has run out of
+//   islands takes one another part has not started (stealing never changes
+//   bits, only which thread runs a whole island).
+// - An island cut between parts (a pile whose every cube touches another)
+//   runs as chains: each part runs its visits of it in the serial order, and
+//   a visit runs once each of its bodies has seen the visits before it (a
+//   count per body, its ticket), with no barrier between the steps. Every
+//   visit a part waits for comes before its own in that order, so the first
+//   unfinished visit can always run (no deadlock). The parts run their cut
+//   islands first, then their whole ones.
+//
+// A RunError stops a part's run of that island (or of its chains) at that
 // visit; the other parts run on up to it (what they wait for comes before
 // it), so the error rethrown is the one a single thread meets first.
 #pragma once
@@ -36,7 +46,97 @@ struct PassPlan {
   std::vector<std::array<int, 2>> body;  // per visit: the awake bodies it changes (-1: none)
   std::vector<std::array<int, 2>> rank;  // per visit and side: how many of that body's visits come before it in a forward pass
   std::vector<int> count;                // per body: its visits in one pass
-  std::vector<std::vector<int>> part;    // per part: its visits, in the forward order
+  std::vector<std::vector<int>> part;    // per part: its visits of cut islands (chains), in the forward order
+  std::vector<std::vector<int>> island;  // the whole islands: each one's visits, in the forward order
+  std::vector<std::vector<int>> part_islands;  // per part: the whole islands it runs first (indices into `island`)
+
+  // `order` and `body` given, and `visit_points(v)` the contact points of
+  // visit v: the parts. The islands (awake bodies joined by edges) are taken
+  // heaviest first (contact points; ties: lowest body). One heavier than a
+  // part's share (a pile whose every cube touches another) is cut: its
+  // bodies ordered by `before` (World<T>: x, then index: neighbours in space
+  // share few edges) and cut into `parts` runs of about equal contact
+  // points, a visit going to the part of its first awake body (its chains).
+  // Every other island goes whole to the part with the fewest contact points
+  // so far (ties: the lowest part). (Which part runs a visit never changes
+  // its bits, only how long the parts wait.)
+  template <class Points, class Before>
+  void cut(int parts, std::size_t bodies, const Points& visit_points, const Before& before) {
+    // The islands: union-find over the edges (both sides awake), the larger root joining the smaller.
+    std::vector<int> root(bodies, -1);
+    auto find = [&](int b) {
+      while (root[static_cast<std::size_t>(b)] != b) {
+        int& up = root[static_cast<std::size_t>(b)];
+        up = root[static_cast<std::size_t>(up)];
+        b = up;
+      }
+      return b;
+    };
+    std::vector<int> members;  // the awake bodies that have visits
+    std::vector<std::int64_t> weight(bodies, 0);  // per body: the contact points of the visits it is the first side of
+    for (int v : order) {
+      const std::array<int, 2>& b = body[static_cast<std::size_t>(v)];
+      for (int s : b)
+        if (s >= 0 && root[static_cast<std::size_t>(s)] < 0) {
+          root[static_cast<std::size_t>(s)] = s;
+          members.push_back(s);
+        }
+      weight[static_cast<std::size_t>(b[0] >= 0 ? b[0] : b[1])] += visit_points(v);
+      if (b[0] >= 0 && b[1] >= 0) {
+        const int x = find(b[0]), y = find(b[1]);
+        if (x != y) root[static_cast<std::size_t>(std::max(x, y))] = std::min(x, y);
+      }
+    }
+    std::vector<std::int64_t> island_weight(bodies, 0);  // per root (its island's lowest body)
+    std::int64_t total = 0;
+    for (int b : members) {
+      island_weight[static_cast<std::size_t>(find(b))] += weight[static_cast<std::size_t>(b)];
+      total += weight[static_cast<std::size_t>(b)];
+    }
+    std::sort(members.begin(), members.end(), [&](int a, int b) {
+      const int ra = find(a), rb = find(b);
+      if (ra != rb) {
+        const std::int64_t wa = island_weight[static_cast<std::size_t>(ra)], wb = island_weight[static_cast<std::size_t>(rb)];
+        return wa != wb ? wa > wb : ra < rb;
+      }
+      return before(a, b);
+    });
+    std::vector<int> owner(bodies, -1);   // per body of a cut island: its part
+    std::vector<int> island_of(bodies, -1);  // per root of a whole island: its index in `island`
+    std::vector<std::int64_t> load(static_cast<std::size_t>(parts), 0);
+    island.clear();
+    part.assign(static_cast<std::size_t>(parts), {});
+    part_islands.assign(static_cast<std::size_t>(parts), {});
+    for (std::size_t k = 0; k < members.size();) {
+      const int r = find(members[k]);
+      std::size_t e = k;
+      while (e < members.size() && find(members[e]) == r) ++e;
+      const std::int64_t w = island_weight[static_cast<std::size_t>(r)];
+      if (w * parts > total) {  // cut
+        std::int64_t so_far = 0;
+        for (std::size_t m = k; m < e; ++m) {
+          const int p = static_cast<int>(std::min<std::int64_t>(parts - 1, so_far * parts / std::max<std::int64_t>(w, 1)));
+          owner[static_cast<std::size_t>(members[m])] = p;
+          so_far += weight[static_cast<std::size_t>(members[m])];
+          load[static_cast<std::size_t>(p)] += weight[static_cast<std::size_t>(members[m])];
+        }
+      } else {  // whole
+        const auto p = static_cast<std::size_t>(std::min_element(load.begin(), load.end()) - load.begin());
+        load[p] += w;
+        island_of[static_cast<std::size_t>(r)] = static_cast<int>(island.size());
+        part_islands[p].push_back(static_cast<int>(island.size()));
+        island.emplace_back();
+      }
+      k = e;
+    }
+    for (int v : order) {
+      const std::array<int, 2>& b = body[static_cast<std::size_t>(v)];
+      const int first = b[0] >= 0 ? b[0] : b[1];
+      const int r = find(first);
+      if (island_of[static_cast<std::size_t>(r)] >= 0) island[static_cast<std::size_t>(island_of[static_cast<std::size_t>(r)])].push_back(v);
+      else part[static_cast<std::size_t>(owner[static_cast<std::size_t>(first)])].push_back(v);
+    }
+  }
 
   // `order` and `body` given: the places, ranks and counts.
   void rank_visits(std::size_t visits, std::size_t bodies) {
@@ -76,15 +176,33 @@ void run_passes(ThreadPool& pool, const PassPlan& plan, int passes, bool alterna
   std::atomic<std::int64_t> first_failed{kNone};  // the lowest place (pass * V + place) of a RunError
   std::vector<std::int64_t> failed(static_cast<std::size_t>(parts), kNone);
   std::vector<std::exception_ptr> errors(static_cast<std::size_t>(parts));
-  pool.run(parts, [&](int p) {
-    begin_part(p);
+  // Records a RunError at `place` and wakes every waiting part to look at
+  // first_failed again (a change above the counts' bits; those past it
+  // stop, the others wait on).
+  auto fail = [&](int p, std::int64_t place) {
+    failed[static_cast<std::size_t>(p)] = place;
+    errors[static_cast<std::size_t>(p)] = std::current_exception();
+    std::int64_t low = first_failed.load(std::memory_order_relaxed);
+    while (place < low && !first_failed.compare_exchange_weak(low, place, std::memory_order_relaxed)) {
+    }
+    for (std::size_t b = 0; b < plan.count.size(); ++b) {
+      done[b].fetch_add(kFailure, std::memory_order_release);
+      done[b].notify_all();
+    }
+  };
+  auto place_of = [&](std::size_t v, int it, bool back) {
+    return std::int64_t{it} * V + (back ? V - 1 - plan.pos[v] : plan.pos[v]);
+  };
+  // Cut islands: the part's chains, pass after pass.
+  auto run_chains = [&](int p) {
     const std::vector<int>& list = plan.part[static_cast<std::size_t>(p)];
     const std::size_t n = list.size();
+    if (n == 0) return;
     for (int it = 0; it < passes; ++it) {
       const bool back = alternate && (it & 1) != 0;
       for (std::size_t k = 0; k < n; ++k) {
         const auto v = static_cast<std::size_t>(list[back ? n - 1 - k : k]);
-        const std::int64_t place = std::int64_t{it} * V + (back ? V - 1 - plan.pos[v] : plan.pos[v]);
+        const std::int64_t place = place_of(v, it, back);
         int need[2] = {-1, -1};
         for (std::size_t s = 0; s < 2; ++s) {
           const int b = plan.body[v][s];
@@ -104,17 +222,7 @@ void run_passes(ThreadPool& pool, const PassPlan& plan, int passes, bool alterna
         try {
           visit(v, it, p);
         } catch (const RunError&) {
-          failed[static_cast<std::size_t>(p)] = place;
-          errors[static_cast<std::size_t>(p)] = std::current_exception();
-          std::int64_t low = first_failed.load(std::memory_order_relaxed);
-          while (place < low && !first_failed.compare_exchange_weak(low, place, std::memory_order_relaxed)) {
-          }
-          // Wake every waiting part to look at first_failed again (a change
-          // above the counts' bits; those past it stop, the others wait on).
-          for (std::size_t b = 0; b < plan.count.size(); ++b) {
-            done[b].fetch_add(kFailure, std::memory_order_release);
-            done[b].notify_all();
-          }
+          fail(p, place);
           return;
         }
         for (std::size_t s = 0; s < 2; ++s) {
@@ -124,6 +232,38 @@ void run_passes(ThreadPool& pool, const PassPlan& plan, int passes, bool alterna
           d.notify_all();
         }
       }
+    }
+  };
+  // A whole island: all its passes in a row. Its visits' places rise in
+  // this order, so one past first_failed ends the island.
+  const std::unique_ptr<std::atomic<bool>[]> taken(new std::atomic<bool>[plan.island.size()]());
+  auto run_island = [&](int p, std::size_t i) {
+    if (taken[i].exchange(true, std::memory_order_relaxed)) return;  // another part runs it
+    const std::vector<int>& list = plan.island[i];
+    const std::size_t n = list.size();
+    for (int it = 0; it < passes; ++it) {
+      const bool back = alternate && (it & 1) != 0;
+      for (std::size_t k = 0; k < n; ++k) {
+        const auto v = static_cast<std::size_t>(list[back ? n - 1 - k : k]);
+        const std::int64_t place = place_of(v, it, back);
+        if (place > first_failed.load(std::memory_order_relaxed)) return;
+        try {
+          visit(v, it, p);
+        } catch (const RunError&) {
+          fail(p, place);
+          return;
+        }
+      }
+    }
+  };
+  pool.run(parts, [&](int p) {
+    begin_part(p);
+    run_chains(p);
+    for (int i : plan.part_islands[static_cast<std::size_t>(p)]) run_island(p, static_cast<std::size_t>(i));
+    // Then the islands other parts have not started, from the ends of their lists.
+    for (int q = 1; q < parts; ++q) {
+      const std::vector<int>& other = plan.part_islands[static_cast<std::size_t>((p + q) % parts)];
+      for (std::size_t k = other.size(); k-- > 0;) run_island(p, static_cast<std::size_t>(other[k]));
     }
   });
   int first = -1;

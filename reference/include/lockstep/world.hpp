@@ -363,6 +363,14 @@ class World {
     std::vector<T> min_x, max_x;
     std::vector<BroadEntry> entries;
     std::vector<int> large, members;
+    std::vector<std::vector<BroadEntry>> part_entries;            // per part: its bodies' (cell, body) entries
+    std::vector<std::vector<std::pair<int, int>>> part_pairs;     // per part: the pairs its cells found
+    std::vector<std::vector<int>> part_members;                   // per part: one cell's members
+  };
+  // Stage 3's environment contacts of one part of the bodies (narrow_phase.hpp).
+  struct EnvPart {
+    std::vector<Contact<T>> contacts;
+    std::uint64_t ground = 0, sdf = 0;
   };
   // A solver visit's last outcome: whether it applied no impulse (and the
   // sides' velocity versions then), whether it changed them by less than
@@ -407,7 +415,15 @@ class World {
     std::vector<Vec3<T>> turn;         // eq 111: per body, the turn (rad) this frame's correction gave it
     BroadScratch broad;
     std::vector<Contact<T>> pair_contacts;
+    std::vector<int> body_contact_begin, body_contacts;  // per body: its contacts in contact order ([begin[i], begin[i + 1]) in body_contacts)
+    std::vector<ImpulseDelta<T>> warm_delta;  // stage 5: per contact, its warm start's velocity changes (eq 96)
+    std::vector<char> warmed;                 // stage 5: per contact, whether it was warm started (eq 96)
+    std::vector<std::uint32_t> warm_faults;   // stage 5: per contact, its warm start's Q16 flags (3 per contact: the impulse, side a, side b)
+    std::vector<EnvPart> env_parts;  // per part of the bodies: its environment contacts (kept: a frame's buffers are large)
     std::vector<BoxManifold<T>> pair_manifolds;  // per pair of pairs_: its manifold (eqs 100-106; count 0: none)
+    std::vector<int> pair_deepest;   // per pair with points: its deepest point, which corrects the pair (eq 110)
+    std::vector<T> pair_depth;       // per pair with points: the mean depth of its points (eq 110)
+    std::vector<int> pair_first;     // per pair: its first point's place in pair_contacts (and the total last)
     std::vector<std::pair<std::size_t, std::size_t>> visits;
     std::vector<unsigned> velocity_version;
     std::vector<IdleVisit> idle_visits;

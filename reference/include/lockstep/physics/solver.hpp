@@ -230,12 +230,24 @@ LS_HD_INLINE Vec3<T> accumulate_friction_impulse(Vec3<T>& accumulated, const T* 
 // back (docs/HARD_CASES.md, 2026-11-26). Friction starts from zero: a
 // warm-started friction impulse on a resting manifold kept re-injecting spin
 // about the normal that 4 iterations did not remove.
+// warm_start_delta: the same in two halves, for World<T> on threads: sets
+// c.j_n and gives the velocity changes to apply (eq 87; false: none), which
+// depend on the sides' masses, rotations and inertia alone, so that each
+// body can add its contacts' changes in contact order.
+template <class T>
+LS_HD bool warm_start_delta(const BodyView<T>& A, const Vec3<T>& r1, const BodyView<T>& B, const Vec3<T>& r2,
+                            const Vec3<T>& n, ContactState<T>& c, const T& cached_j_n, const Params<T>& P,
+                            ImpulseDelta<T>& delta) {
+  if (!(c.k_n > T{}) || c.v_n0 > P.restitution_min_speed) return false;
+  c.j_n = cached_j_n;
+  delta = impulse_delta(A, r1, B, r2, n * c.j_n);  // eq 87
+  return true;
+}
 template <class T>
 LS_HD void warm_start_contact(BodyView<T>& A, const Vec3<T>& r1, BodyView<T>& B, const Vec3<T>& r2, const Vec3<T>& n,
                               ContactState<T>& c, const T& cached_j_n, const Params<T>& P) {
-  if (!(c.k_n > T{}) || c.v_n0 > P.restitution_min_speed) return;
-  c.j_n = cached_j_n;
-  apply_impulse(A, r1, B, r2, n * c.j_n);  // eq 87
+  ImpulseDelta<T> d;
+  if (warm_start_delta(A, r1, B, r2, n, c, cached_j_n, P, d)) apply_delta(A, B, d);
 }
 
 // Eq 97's g_n: gravity presses a body onto an immovable side B; two falling
