@@ -137,16 +137,16 @@ void World<T>::solve_contacts() {
   // would form the same value at every pass). A visit whose first point has
   // k_n = 0 (both sides immovable) is skipped by the solve and has none.
   scratch_.visit_split.assign(visits.size(), one);
-  for (std::size_t vi = 0; vi < visits.size(); ++vi) {
+  parallel_for(visits.size(), 64, [&](std::size_t vi, int) {  // each visit alone
     const std::size_t s = visits[vi].first, e = visits[vi].second;
-    if (!(contacts_[s].b < 0 || oriented) || !(contacts_[s].state.k_n > T{})) continue;
+    if (!(contacts_[s].b < 0 || oriented) || !(contacts_[s].state.k_n > T{})) return;
     const T inv_a = solver::view_of(bodies_, contacts_[s].a).inv_mass;
     const T inv_b = solver::view_of(bodies_, contacts_[s].b).inv_mass;
     T o{};
     for (std::size_t k = s; k < e; ++k) o += split_share(inv_a, inv_b, contacts_[k].state.k_n);
     scratch_.visit_split[vi] = manifold_split(o, static_cast<int>(e - s));
     check_faults(contacts_[s].a, "contact preparation");
-  }
+  });
   // eqs 125-127: each awake body's own visits (immovable other side: the
   // environment, then static and sleeping bodies by index), and the edges
   // (two awake bodies) coloured in key order.
@@ -354,12 +354,20 @@ void World<T>::solve_contacts() {
       }
     }
   }
+  // The cache (eq 96), sorted by (a, b, feature) (a unique key: the same
+  // order for any cut): the contacts' halves sorted on the world's threads, then merged.
   warm_.clear();
   for (const Contact<T>& c : contacts_)
     if (c.state.j_n > T{}) warm_.push_back({c.a, c.b, c.feature, c.state.j_n});
-  std::sort(warm_.begin(), warm_.end(), [](const CachedImpulse& x, const CachedImpulse& y) {
+  auto by_key = [](const CachedImpulse& x, const CachedImpulse& y) {
     return x.a != y.a ? x.a < y.a : (x.b != y.b ? x.b < y.b : x.feature < y.feature);
+  };
+  const std::size_t halves = warm_.size() >= 512 ? 2 : 1;
+  parallel_for(halves, 1, [&](std::size_t h, int) {
+    std::sort(warm_.begin() + static_cast<std::ptrdiff_t>(warm_.size() * h / halves),
+              warm_.begin() + static_cast<std::ptrdiff_t>(warm_.size() * (h + 1) / halves), by_key);
   });
+  if (halves == 2) std::inplace_merge(warm_.begin(), warm_.begin() + static_cast<std::ptrdiff_t>(warm_.size() / 2), warm_.end(), by_key);
 }
 
 template <class T>
