@@ -172,5 +172,49 @@ TEST(ThreadsTest, OverflowInAParallelStepNamesTheSameBody) {
   EXPECT_EQ(stop(8), one);
 }
 
+// Whole islands (7.7 "Threads"): 64 islands 20 m apart, in each a 1000 kg
+// cube falling at 400 m/s onto a cube resting on the ground (the impulse
+// leaves Q16.16). The last 32 islands also have a third cube beside the
+// struck one, so they are heavier and the parts run them first; the first
+// failing visit in the serial order is in the first island, which is light
+// and runs late. The run must stop where a single thread stops, not at the
+// first failure a part happens to meet.
+TEST(ThreadsTest, OverflowInWholeIslandsNamesTheSameBody) {
+  Scene s;
+  for (int c = 0; c < 64; ++c) {
+    const double x = 20.0 * (c % 8), z = 20.0 * (c / 8);
+    BodyDesc b;
+    b.half_extents = {0.5, 0.5, 0.5};
+    b.mass = 1000.0;
+    b.position = {x, 0.5, z};
+    s.bodies.push_back(b);
+    b.position = {x, 1.55, z};
+    b.velocity = {0.0, -400.0, 0.0};
+    s.bodies.push_back(b);
+    if (c >= 32) {
+      b.position = {x + 1.0, 0.5, z};
+      b.velocity = {};
+      s.bodies.push_back(b);
+    }
+  }
+  auto stop = [&](int threads) {
+    World<Q16> w(s);
+    w.set_threads(threads);
+    for (int f = 0; f < 20; ++f) {
+      try {
+        w.step();
+      } catch (const RunError& e) {
+        return std::to_string(e.frame) + " " + std::to_string(e.body) + " " + e.quantity + " " + e.what();
+      }
+    }
+    return std::string("no stop");
+  };
+  const std::string one = stop(1);
+  EXPECT_NE(one.find("frame 1, body 1, contact impulse"), std::string::npos) << one;
+  EXPECT_EQ(stop(2), one);
+  EXPECT_EQ(stop(3), one);
+  EXPECT_EQ(stop(8), one);
+}
+
 }  // namespace
 }  // namespace lockstep
