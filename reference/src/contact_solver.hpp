@@ -54,9 +54,10 @@ void World<T>::solve_contacts() {
   };
   // A parallel region's counts: one per part, added up after (integers, in
   // any order).
-  std::vector<SolveCounts> part_counts(static_cast<std::size_t>(workers_.threads));
+  struct alignas(64) PartCounts : SolveCounts {};  // a cache line each: every visit adds to its part's
+  std::vector<PartCounts> part_counts(static_cast<std::size_t>(workers_.threads));
   auto region = [&](std::size_t count, std::size_t grain, auto&& item) {
-    for (SolveCounts& c : part_counts) c = SolveCounts{};
+    for (PartCounts& c : part_counts) c = PartCounts{};
     parallel_for(count, grain, [&](std::size_t k, int part) { item(k, part_counts[static_cast<std::size_t>(part)]); });
     for (const SolveCounts& c : part_counts) tally(c);
   };
@@ -209,8 +210,8 @@ void World<T>::solve_contacts() {
   // none again: it is skipped (the same bits), counted as the visit it
   // repeats. scratch_.velocity_version[i] counts the visits that changed awake body
   // i (an immovable side's velocity never changes: version 0).
-  scratch_.velocity_version.assign(bodies_.size(), 0u);
-  auto version = [&](int idx) { return awake(idx) ? scratch_.velocity_version[static_cast<std::size_t>(idx)] : 0u; };
+  scratch_.velocity_version.assign(bodies_.size(), {});
+  auto version = [&](int idx) { return awake(idx) ? scratch_.velocity_version[static_cast<std::size_t>(idx)].n : 0u; };
   const bool skip_converged = oriented && P_.converged_speed > T{};  // eq 113
   scratch_.idle_visits.assign(visits.size(), IdleVisit{});
   // One visit of pass `it`; its counts go to `total` (one per part of a
@@ -270,8 +271,8 @@ void World<T>::solve_contacts() {
     check_faults(ia, ib >= 0 ? "contact impulse (with another body)" : "contact impulse");
     idle.idle = counts.normal_impulses == 0 && counts.friction_steps == 0;
     if (!idle.idle) {
-      if (awake(ia)) ++scratch_.velocity_version[static_cast<std::size_t>(ia)];
-      if (awake(ib)) ++scratch_.velocity_version[static_cast<std::size_t>(ib)];
+      if (awake(ia)) ++scratch_.velocity_version[static_cast<std::size_t>(ia)].n;
+      if (awake(ib)) ++scratch_.velocity_version[static_cast<std::size_t>(ib)].n;
     }
     idle.version_a = version(ia);
     idle.version_b = version(ib);
@@ -332,7 +333,7 @@ void World<T>::solve_contacts() {
           return xa < xb || (xa == xb && a < b);
         });
     if (!workers_.pool) workers_.pool = std::make_shared<ThreadPool>(workers_.threads);
-    for (SolveCounts& c : part_counts) c = SolveCounts{};
+    for (PartCounts& c : part_counts) c = PartCounts{};
     run_passes(
         *workers_.pool, plan, P_.solver_iterations, oriented,
         [&](std::size_t v, int it, int part) { visit_at(v, it, part_counts[static_cast<std::size_t>(part)]); },

@@ -11,27 +11,26 @@ template <class T>
 void World<T>::integrate_velocities() {
   const Effects& fx = scene_.effects;
   if (!fx.gravity && !fx.damping) return;
-  const auto awake = static_cast<std::uint64_t>(awake_count());
-  if (fx.gravity) counters_.integrate_velocity += awake;
-  if (fx.damping) counters_.damping += awake;
-  parallel_for(bodies_.size(), 256, [&](std::size_t i, int) {  // each body alone
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
     Body<T>& b = bodies_[i];
-    if (!b.awake()) return;
+    if (!b.awake()) continue;
     integrate_velocity(b.v, b.w, fx.gravity, fx.damping, P_);  // eqs 1, 5, 6, 13
+    if (fx.gravity) ++counters_.integrate_velocity;
+    if (fx.damping) ++counters_.damping;
     check_faults(static_cast<int>(i), "velocity (gravity, damping)");
-  });
+  }
 }
 
 template <class T>
 void World<T>::integrate_positions() {
-  counters_.integrate_position += static_cast<std::uint64_t>(awake_count());
-  parallel_for(bodies_.size(), 64, [&](std::size_t i, int) {  // each body alone
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
     Body<T>& b = bodies_[i];
-    if (!b.awake()) return;
+    if (!b.awake()) continue;
     integrate_pose(b.p, b.q, b.v, b.w, P_);  // eqs 2, 7-10
     update_derived(b);
+    ++counters_.integrate_position;
     check_faults(static_cast<int>(i), "position/orientation");
-  });
+  }
 }
 
 // R = mat3(q) and the AABB half extents of eq 31, recomputed when q changes.

@@ -425,7 +425,8 @@ class World {
     std::vector<T> pair_depth;       // per pair with points: the mean depth of its points (eq 110)
     std::vector<int> pair_first;     // per pair: its first point's place in pair_contacts (and the total last)
     std::vector<std::pair<std::size_t, std::size_t>> visits;
-    std::vector<unsigned> velocity_version;
+    struct alignas(64) Version { unsigned n = 0; };  // a cache line per body: the parts on threads bump their own bodies' versions
+    std::vector<Version> velocity_version;
     std::vector<IdleVisit> idle_visits;
     std::vector<T> visit_split;  // per visit: eq 99's split (manifold_split), formed once per solve
     std::vector<int> body_visit_begin, body_visits, visit_bodies;
