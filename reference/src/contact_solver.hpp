@@ -120,6 +120,13 @@ void World<T>::solve_contacts() {
       if (f != 0) throw RunError(frame_, contacts_[k].a, "warm start impulse", q16_flag_name(f));
     }
   }
+  // Iterations (eqs 94, 95, 97). A body's contacts with one environment
+  // object (its ground corners, its samples of one SDF) and a body pair's
+  // box-box points (eqs 100-106) form a manifold that is solved Jacobi-style
+  // (eq 99, solve_manifold); with the source's AABB pair model a body pair is
+  // one contact (solve_contact, effective masses unscaled). The visits follow
+  // each other Gauss-Seidel-style in the order of eqs 125-127
+  // (physics/solve_order.hpp), parallel by construction.
   const T one = Num<T>::from_int(1);
   const bool oriented = scene_.pair_contacts == PairModel::kOrientedBox;
   // The visits: a manifold (consecutive contacts of one body with one other
