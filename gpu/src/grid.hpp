@@ -142,11 +142,14 @@ LS_HD inline GridParams<T> grid_params_for(const Bounds<T>& b, const T& tol, lon
   g.reach = (b.amax + b.gmax + tol) * Num<T>::from_double(1.0 + 1.0 / 1024.0) + cell / Num<T>::from_int(64);
   g.table = hash_table;
   if (!(b.lo[0] <= b.hi[0])) return g;  // no members
+  // The dense box's cells, counted only while they stay within dense_limit
+  // (at most 8 members + 4096 < 2^31, and a dimension < 2^31: the product
+  // fits in 64 bits); a far-flung scene's box would overflow them.
   long long cells = 1;
   for (int k = 0; k < 3; ++k) {
     g.origin[k] = cell_coord(b.lo[k], g.inv_cell);
     g.dims[k] = cell_coord(b.hi[k], g.inv_cell) - g.origin[k] + 1;
-    cells *= g.dims[k];
+    if (cells <= dense_limit) cells *= g.dims[k];
   }
   if (cells <= dense_limit) {
     g.dense = 1;
