@@ -147,6 +147,21 @@ TEST(ThreadsTest, CountIsCheckedAndCopied) {
   EXPECT_EQ(w.threads(), 4);
 }
 
+// Where a fixed run of `s` on `threads` threads stops within `frames`
+// frames: "frame body quantity message", or "no stop".
+std::string stop_message(const Scene& s, int threads, int frames) {
+  World<Q16> w(s);
+  w.set_threads(threads);
+  for (int f = 0; f < frames; ++f) {
+    try {
+      w.step();
+    } catch (const RunError& e) {
+      return std::to_string(e.frame) + " " + std::to_string(e.body) + " " + e.quantity + " " + e.what();
+    }
+  }
+  return std::string("no stop");
+}
+
 // A Q16.16 overflow inside a parallel step stops the run as on one thread:
 // the same frame, body and quantity.
 TEST(ThreadsTest, OverflowInAParallelStepNamesTheSameBody) {
@@ -154,18 +169,7 @@ TEST(ThreadsTest, OverflowInAParallelStepNamesTheSameBody) {
   // a whole layer driven into the one below: 100 edges of one colour
   // overflow at once, in every part of the step
   for (std::size_t i = 500; i < 600; ++i) s.bodies[i].velocity = {0.0, -30000.0, 0.0};
-  auto stop = [&](int threads) {
-    World<Q16> w(s);
-    w.set_threads(threads);
-    for (int f = 0; f < 200; ++f) {
-      try {
-        w.step();
-      } catch (const RunError& e) {
-        return std::to_string(e.frame) + " " + std::to_string(e.body) + " " + e.quantity + " " + e.what();
-      }
-    }
-    return std::string("no stop");
-  };
+  auto stop = [&](int threads) { return stop_message(s, threads, 200); };
   const std::string one = stop(1);
   EXPECT_NE(one.find("contact impulse"), std::string::npos) << one;  // in the solver's parallel steps
   EXPECT_EQ(stop(2), one);
@@ -197,18 +201,7 @@ TEST(ThreadsTest, OverflowInWholeIslandsNamesTheSameBody) {
       s.bodies.push_back(b);
     }
   }
-  auto stop = [&](int threads) {
-    World<Q16> w(s);
-    w.set_threads(threads);
-    for (int f = 0; f < 20; ++f) {
-      try {
-        w.step();
-      } catch (const RunError& e) {
-        return std::to_string(e.frame) + " " + std::to_string(e.body) + " " + e.quantity + " " + e.what();
-      }
-    }
-    return std::string("no stop");
-  };
+  auto stop = [&](int threads) { return stop_message(s, threads, 20); };
   const std::string one = stop(1);
   EXPECT_NE(one.find("frame 1, body 1, contact impulse"), std::string::npos) << one;
   EXPECT_EQ(stop(2), one);
