@@ -193,68 +193,65 @@ void run_passes(ThreadPool& pool, const PassPlan& plan, int passes, bool alterna
   auto place_of = [&](std::size_t v, int it, bool back) {
     return std::int64_t{it} * V + (back ? V - 1 - plan.pos[v] : plan.pos[v]);
   };
-  // Cut islands: the part's chains, pass after pass.
-  auto run_chains = [&](int p) {
-    const std::vector<int>& list = plan.part[static_cast<std::size_t>(p)];
+  // Runs step(v, pass, back, place) over `list`'s visits pass after pass
+  // (backwards on odd passes when alternating), in the serial order; a step
+  // that returns false ends the list.
+  auto each_visit = [&](const std::vector<int>& list, const auto& step) {
     const std::size_t n = list.size();
-    if (n == 0) return;
     for (int it = 0; it < passes; ++it) {
       const bool back = alternate && (it & 1) != 0;
       for (std::size_t k = 0; k < n; ++k) {
         const auto v = static_cast<std::size_t>(list[back ? n - 1 - k : k]);
-        const std::int64_t place = place_of(v, it, back);
-        int need[2] = {-1, -1};
-        for (std::size_t s = 0; s < 2; ++s) {
-          const int b = plan.body[v][s];
-          if (b < 0) continue;
-          const int c = plan.count[static_cast<std::size_t>(b)], r = plan.rank[v][s];
-          need[s] = it * c + (back ? c - 1 - r : r);  // the body's visits before this one
-          std::atomic<int>& d = done[static_cast<std::size_t>(b)];
-          for (int spins = 0;; ++spins) {
-            const int now = d.load(std::memory_order_acquire);
-            if ((now & kCountMask) >= need[s]) break;
-            if (place > first_failed.load(std::memory_order_relaxed)) return;
-            if (spins < kSpins) spin_pause();
-            else d.wait(now, std::memory_order_acquire);  // (more threads than cores: block, do not spin)
-          }
-        }
-        if (place > first_failed.load(std::memory_order_relaxed)) return;
-        try {
-          visit(v, it, p);
-        } catch (const RunError&) {
-          fail(p, place);
-          return;
-        }
-        for (std::size_t s = 0; s < 2; ++s) {
-          if (need[s] < 0) continue;
-          std::atomic<int>& d = done[static_cast<std::size_t>(plan.body[v][s])];
-          d.fetch_add(1, std::memory_order_release);  // this visit held the body's count: need -> need + 1
-          d.notify_all();
-        }
+        if (!step(v, it, back, place_of(v, it, back))) return;
       }
     }
+  };
+  // Runs visit v, or records its RunError (false).
+  auto run_visit = [&](std::size_t v, int it, int p, std::int64_t place) {
+    try {
+      visit(v, it, p);
+      return true;
+    } catch (const RunError&) {
+      fail(p, place);
+      return false;
+    }
+  };
+  // Cut islands: the part's chains, pass after pass.
+  auto run_chains = [&](int p) {
+    each_visit(plan.part[static_cast<std::size_t>(p)], [&](std::size_t v, int it, bool back, std::int64_t place) {
+      int need[2] = {-1, -1};
+      for (std::size_t s = 0; s < 2; ++s) {
+        const int b = plan.body[v][s];
+        if (b < 0) continue;
+        const int c = plan.count[static_cast<std::size_t>(b)], r = plan.rank[v][s];
+        need[s] = it * c + (back ? c - 1 - r : r);  // the body's visits before this one
+        std::atomic<int>& d = done[static_cast<std::size_t>(b)];
+        for (int spins = 0;; ++spins) {
+          const int now = d.load(std::memory_order_acquire);
+          if ((now & kCountMask) >= need[s]) break;
+          if (place > first_failed.load(std::memory_order_relaxed)) return false;
+          if (spins < kSpins) spin_pause();
+          else d.wait(now, std::memory_order_acquire);  // (more threads than cores: block, do not spin)
+        }
+      }
+      if (place > first_failed.load(std::memory_order_relaxed) || !run_visit(v, it, p, place)) return false;
+      for (std::size_t s = 0; s < 2; ++s) {
+        if (need[s] < 0) continue;
+        std::atomic<int>& d = done[static_cast<std::size_t>(plan.body[v][s])];
+        d.fetch_add(1, std::memory_order_release);  // this visit held the body's count: need -> need + 1
+        d.notify_all();
+      }
+      return true;
+    });
   };
   // A whole island: all its passes in a row. Its visits' places rise in
   // this order, so one past first_failed ends the island.
   const std::unique_ptr<std::atomic<bool>[]> taken(new std::atomic<bool>[plan.island.size()]());
   auto run_island = [&](int p, std::size_t i) {
     if (taken[i].exchange(true, std::memory_order_relaxed)) return;  // another part runs it
-    const std::vector<int>& list = plan.island[i];
-    const std::size_t n = list.size();
-    for (int it = 0; it < passes; ++it) {
-      const bool back = alternate && (it & 1) != 0;
-      for (std::size_t k = 0; k < n; ++k) {
-        const auto v = static_cast<std::size_t>(list[back ? n - 1 - k : k]);
-        const std::int64_t place = place_of(v, it, back);
-        if (place > first_failed.load(std::memory_order_relaxed)) return;
-        try {
-          visit(v, it, p);
-        } catch (const RunError&) {
-          fail(p, place);
-          return;
-        }
-      }
-    }
+    each_visit(plan.island[i], [&](std::size_t v, int it, bool, std::int64_t place) {
+      return place <= first_failed.load(std::memory_order_relaxed) && run_visit(v, it, p, place);
+    });
   };
   pool.run(parts, [&](int p) {
     begin_part(p);
