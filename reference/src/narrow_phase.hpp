@@ -13,10 +13,12 @@ namespace lockstep {
 
 template <class T>
 void World<T>::narrow_phase() {
-  contacts_.clear();
+  // contacts_ and pair_contacts are not cleared: they are resized to this
+  // frame's count, and every element kept is overwritten, so that only a
+  // longer list constructs its tail (value-initialising 2,000 contacts of
+  // 288 bytes took 0.1 ms of a frame on one thread).
   std::fill(wake_load_.begin(), wake_load_.end(), 0);
   std::vector<Contact<T>>& pair_contacts = scratch_.pair_contacts;
-  pair_contacts.clear();
   const T half_tol = P_.contact_tolerance * Num<T>::from_double(0.5);
   const T tol = half_tol + half_tol;  // the two growths together
   // Body against body, pairs in ascending (i, j) order.
@@ -63,6 +65,7 @@ void World<T>::narrow_phase() {
       const BoxManifold<T>& m = scratch_.pair_manifolds[pk];
       for (int k = 0; k < m.count; ++k) {
         Contact<T>& c = pair_contacts[static_cast<std::size_t>(first[pk] + k)];
+        c = Contact<T>{};  // whole: the element may hold an earlier frame's contact
         c.a = pairs_[pk].first;
         c.b = pairs_[pk].second;
         c.n = m.n;
@@ -74,6 +77,7 @@ void World<T>::narrow_phase() {
       }
     });
   }
+  if (!oriented) pair_contacts.clear();
   for (std::size_t pk = 0; pk < pairs_.size() && !oriented; ++pk) {
     const auto [i, j] = pairs_[pk];
     const Body<T>& A = bodies_[static_cast<std::size_t>(i)];
@@ -169,12 +173,24 @@ void World<T>::narrow_phase() {
       }
     }
   });
+  // The list: the ranges' environment contacts in range order, then the
+  // pairs' contacts, copied into place on the world's threads.
+  std::size_t env_count = 0;
   for (const EnvPart& e : env) {
-    contacts_.insert(contacts_.end(), e.contacts.begin(), e.contacts.end());
+    env_count += e.contacts.size();
     counters_.ground_contacts += e.ground;
     counters_.sdf_contacts += e.sdf;
   }
-  contacts_.insert(contacts_.end(), pair_contacts.begin(), pair_contacts.end());
+  contacts_.resize(env_count + pair_contacts.size());
+  parallel_for(contacts_.size(), 256, [&](std::size_t k, int) {
+    if (k >= env_count) {
+      contacts_[k] = pair_contacts[k - env_count];
+      return;
+    }
+    std::size_t part = 0, at = k;
+    while (at >= env[part].contacts.size()) at -= env[part++].contacts.size();
+    contacts_[k] = env[part].contacts[at];
+  });
 
   // Support contacts (settling, sleep): touching to within slop (penetration
   // > -slop: rounding noise of a resting body is not a gap, a speculative gap

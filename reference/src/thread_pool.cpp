@@ -1,6 +1,6 @@
 // ThreadPool (thread_pool.hpp): workers wait for a new generation, spinning
-// a little first (a frame opens a region per solver colour, a few hundred a
-// frame, microseconds apart), then blocking on the atomic (C++20 wait).
+// (a frame opens its regions microseconds apart), then, unless the pool is
+// hot (within a step), blocking on the atomic (C++20 wait).
 #include "thread_pool.hpp"
 
 #include <chrono>
@@ -17,11 +17,12 @@ void ThreadPool::run_erased(int parts, Fn fn, const void* arg) {
 void ThreadPool::work(int) {}
 #else
 namespace {
-// How long a waiting thread spins before it blocks (a worker) or yields (the
-// caller): a frame opens its regions microseconds apart within a stage, and
-// a worker that blocked costs a wake-up (tens of microseconds on a VM) at the
-// next one; between stages it blocks, so that it does not slow the caller's
-// serial work (a spinning hyperthread sibling halves it).
+// How long a waiting thread spins before it blocks (a cold pool's worker),
+// looks again whether the pool is still hot, or yields (the caller): a frame
+// opens its regions microseconds apart within a stage, and a worker that
+// blocked costs a wake-up (tens of microseconds on a VM) at the next one.
+// spin_pause keeps a spinning worker from taking much from a hyperthread
+// sibling that runs the caller's serial work.
 constexpr auto kSpin = std::chrono::microseconds(50);
 // Spins (with spin_pause) until done() or kSpin has passed; returns done().
 template <class Done>
@@ -38,6 +39,8 @@ bool spin(const Done& done) {
 }  // namespace
 
 ThreadPool::ThreadPool(int threads) : threads_(threads > 1 ? threads : 1) {
+  const unsigned cores = std::thread::hardware_concurrency();  // 0: unknown
+  may_spin_ = cores > 0 && static_cast<unsigned>(threads_) <= cores;
   const int workers = threads_ - 1;
   errors_.resize(static_cast<std::size_t>(workers) + 1);
   workers_.reserve(static_cast<std::size_t>(workers));
@@ -76,11 +79,9 @@ void ThreadPool::work(int index) {
   std::uint32_t seen = 0;
   for (;;) {
     std::uint32_t now = seen;
-    spin([&] { return (now = generation_.load(std::memory_order_acquire)) != seen; });
-    while (now == seen) {
-      generation_.wait(seen, std::memory_order_acquire);
-      now = generation_.load(std::memory_order_acquire);
-    }
+    // Spin kSpin at a time while the pool is hot, then block.
+    while (!spin([&] { return (now = generation_.load(std::memory_order_acquire)) != seen; }))
+      if (!hot_.load(std::memory_order_relaxed)) generation_.wait(seen, std::memory_order_acquire);
     seen = now;
     if (stop_) return;
     if (index < parts_) {

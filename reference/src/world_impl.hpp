@@ -113,6 +113,14 @@ void World<T>::step() { step(StageObserver{}); }
 template <class T>
 void World<T>::step(const StageObserver& after_stage) {
   auto after = [&](FrameStage s) { if (after_stage) after_stage(s, *this); };
+  // The workers spin between the frame's regions, and block after it (thread_pool.hpp).
+  struct Hot {
+    ThreadPool* pool;
+    explicit Hot(ThreadPool* p) : pool(p) { if (pool != nullptr) pool->set_hot(true); }
+    ~Hot() { if (pool != nullptr) pool->set_hot(false); }
+    Hot(const Hot&) = delete;
+    Hot& operator=(const Hot&) = delete;
+  } hot(workers_.pool.get());
   ++frame_;
   Num<T>::take_faults();
   if (!forces_.empty()) apply_forces();                 // 0: eq 121 (run-time inputs)
