@@ -58,7 +58,7 @@ void World<T>::solve_contacts() {
   std::vector<PartCounts> part_counts(static_cast<std::size_t>(workers_.threads));
   auto region = [&](std::size_t count, std::size_t grain, auto&& item) {
     for (PartCounts& c : part_counts) c = PartCounts{};
-    parallel_for(count, grain, [&](std::size_t k, int part) { item(k, part_counts[static_cast<std::size_t>(part)]); });
+    parallel_each(count, grain, [&](std::size_t k, int part) { item(k, part_counts[static_cast<std::size_t>(part)]); });
     for (const SolveCounts& c : part_counts) tally(c);
   };
   // Prepare: lever arms, then approach speed, restitution, friction and
@@ -87,7 +87,7 @@ void World<T>::solve_contacts() {
     scratch_.warm_faults.assign(contacts_.size() * 3, 0u);
     std::vector<char>& warmed = scratch_.warmed;
     warmed.assign(contacts_.size(), 0);
-    parallel_for(contacts_.size(), 64, [&](std::size_t k, int) {
+    parallel_each(contacts_.size(), 64, [&](std::size_t k, int) {
       Contact<T>& c = contacts_[k];
       const auto it = std::lower_bound(warm_.begin(), warm_.end(), c, [](const CachedImpulse& w, const Contact<T>& x) {
         return w.a != x.a ? w.a < x.a : (w.b != x.b ? w.b < x.b : w.feature < x.feature);
@@ -97,7 +97,7 @@ void World<T>::solve_contacts() {
       warmed[k] = warm_start_delta(A, c.r1, B, c.r2, c.n, c.state, it->j_n, P_, scratch_.warm_delta[k]) ? 1 : 0;
       scratch_.warm_faults[3 * k] = Num<T>::take_faults();
     });
-    parallel_for(bodies_.size(), 64, [&](std::size_t i, int) {
+    parallel_each(bodies_.size(), 64, [&](std::size_t i, int) {
       Body<T>& b = bodies_[i];
       if (!b.awake() || !(b.inv_mass > T{})) return;
       for (int k = scratch_.body_contact_begin[i]; k < scratch_.body_contact_begin[i + 1]; ++k) {
@@ -145,7 +145,7 @@ void World<T>::solve_contacts() {
   // would form the same value at every pass). A visit whose first point has
   // k_n = 0 (both sides immovable) is skipped by the solve and has none.
   scratch_.visit_split.assign(visits.size(), one);
-  parallel_for(visits.size(), 64, [&](std::size_t vi, int) {  // each visit alone
+  parallel_each(visits.size(), 64, [&](std::size_t vi, int) {  // each visit alone
     const std::size_t s = visits[vi].first, e = visits[vi].second;
     if (!(contacts_[s].b < 0 || oriented) || !(contacts_[s].state.k_n > T{})) return;
     const T inv_a = solver::view_of(bodies_, contacts_[s].a).inv_mass;

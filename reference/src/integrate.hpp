@@ -23,14 +23,14 @@ void World<T>::integrate_velocities() {
 
 template <class T>
 void World<T>::integrate_positions() {
-  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+  parallel_each(bodies_.size(), 64, [&](std::size_t i, int) {  // each body alone
     Body<T>& b = bodies_[i];
-    if (!b.awake()) continue;
+    if (!b.awake()) return;
     integrate_pose(b.p, b.q, b.v, b.w, P_);  // eqs 2, 7-10
     update_derived(b);
-    ++counters_.integrate_position;
     check_faults(static_cast<int>(i), "position/orientation");
-  }
+  });
+  for (const Body<T>& b : bodies_) counters_.integrate_position += b.awake() ? 1u : 0u;
 }
 
 // R = mat3(q) and the AABB half extents of eq 31, recomputed when q changes.

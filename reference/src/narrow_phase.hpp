@@ -30,7 +30,7 @@ void World<T>::narrow_phase() {
     scratch_.pair_manifolds.resize(pairs_.size());
     scratch_.pair_deepest.resize(pairs_.size());
     scratch_.pair_depth.resize(pairs_.size());
-    parallel_for(pairs_.size(), 64, [&](std::size_t k, int) {
+    parallel_each(pairs_.size(), 64, [&](std::size_t k, int) {
       const auto [i, j] = pairs_[k];
       const Body<T>& A = bodies_[static_cast<std::size_t>(i)];
       const Body<T>& B = bodies_[static_cast<std::size_t>(j)];
@@ -61,7 +61,7 @@ void World<T>::narrow_phase() {
     for (std::size_t pk = 0; pk < pairs_.size(); ++pk) first[pk + 1] = first[pk] + scratch_.pair_manifolds[pk].count;
     pair_contacts.resize(static_cast<std::size_t>(first.back()));
     counters_.body_contacts += static_cast<std::uint64_t>(first.back());
-    parallel_for(pairs_.size(), 64, [&](std::size_t pk, int) {
+    parallel_each(pairs_.size(), 64, [&](std::size_t pk, int) {
       const BoxManifold<T>& m = scratch_.pair_manifolds[pk];
       for (int k = 0; k < m.count; ++k) {
         Contact<T>& c = pair_contacts[static_cast<std::size_t>(first[pk] + k)];
@@ -99,16 +99,17 @@ void World<T>::narrow_phase() {
   if (scene_.effects.sleep) wake_touched(pair_contacts);
 
   // The environment's contacts, body by body (each a function of its body
-  // alone): the bodies in parallel on the world's threads, in contiguous
-  // ranges whose contacts are then appended in range order, so in body order.
+  // alone): the bodies in parallel on the world's threads, in chunks of 64
+  // whose contacts are then appended in chunk order, so in body order.
+  constexpr std::size_t kEnvChunk = 64;
   std::vector<EnvPart>& env = scratch_.env_parts;
-  env.resize(static_cast<std::size_t>(workers_.threads));
+  env.resize((bodies_.size() + kEnvChunk - 1) / kEnvChunk);
   for (EnvPart& e : env) {
     e.contacts.clear();
     e.ground = e.sdf = 0;
   }
-  parallel_for(bodies_.size(), 64, [&](std::size_t i, int part) {
-    EnvPart& out = env[static_cast<std::size_t>(part)];
+  parallel_each(bodies_.size(), kEnvChunk, [&](std::size_t i, int) {
+    EnvPart& out = env[i / kEnvChunk];
     std::vector<Contact<T>>& list = out.contacts;
     const Body<T>& b = bodies_[i];
     if (!b.awake()) return;  // 7.3
@@ -173,24 +174,20 @@ void World<T>::narrow_phase() {
       }
     }
   });
-  // The list: the ranges' environment contacts in range order, then the
+  // The list: the chunks' environment contacts in chunk order, then the
   // pairs' contacts, copied into place on the world's threads.
   std::size_t env_count = 0;
-  for (const EnvPart& e : env) {
+  for (EnvPart& e : env) {
+    e.first = env_count;
     env_count += e.contacts.size();
     counters_.ground_contacts += e.ground;
     counters_.sdf_contacts += e.sdf;
   }
   contacts_.resize(env_count + pair_contacts.size());
-  parallel_for(contacts_.size(), 256, [&](std::size_t k, int) {
-    if (k >= env_count) {
-      contacts_[k] = pair_contacts[k - env_count];
-      return;
-    }
-    std::size_t part = 0, at = k;
-    while (at >= env[part].contacts.size()) at -= env[part++].contacts.size();
-    contacts_[k] = env[part].contacts[at];
+  parallel_each(env.size(), 1, [&](std::size_t k, int) {
+    std::copy(env[k].contacts.begin(), env[k].contacts.end(), contacts_.begin() + static_cast<std::ptrdiff_t>(env[k].first));
   });
+  parallel_each(pair_contacts.size(), 256, [&](std::size_t k, int) { contacts_[env_count + k] = pair_contacts[k]; });
 
   // Support contacts (settling, sleep): touching to within slop (penetration
   // > -slop: rounding noise of a resting body is not a gap, a speculative gap
@@ -254,7 +251,7 @@ void World<T>::narrow_phase() {
       if (c.b >= 0) body_contacts[static_cast<std::size_t>(at[static_cast<std::size_t>(c.b)]++)] = static_cast<int>(ci);
     }
   }
-  parallel_for(bodies_.size(), 64, [&](std::size_t i, int) {  // each body alone
+  parallel_each(bodies_.size(), 64, [&](std::size_t i, int) {  // each body alone
     const int body = static_cast<int>(i);
     for (int k = first_contact[i]; k < first_contact[i + 1]; ++k) {
       const auto ci = static_cast<std::size_t>(body_contacts[static_cast<std::size_t>(k)]);

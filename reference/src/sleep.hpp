@@ -113,12 +113,13 @@ void World<T>::update_sleep() {
   // 80); with the oriented-box model it is ready but stays drowsy until eq
   // 109 lets it sleep.
   const bool oriented = scene_.pair_contacts == PairModel::kOrientedBox;
-  std::vector<int>& ready = scratch_.order;
-  ready.clear();
-  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+  // Each body alone, on the world's threads; then the ready ones in index order.
+  std::vector<char>& state = scratch_.sleep_state;  // per body: 0 not awake, 1 updated, 2 updated and ready
+  state.assign(bodies_.size(), 0);
+  parallel_each(bodies_.size(), 64, [&](std::size_t i, int) {
     Body<T>& b = bodies_[i];
-    if (!b.awake()) continue;
-    ++counters_.sleep_updates;
+    if (!b.awake()) return;
+    state[i] = 1;
     const bool supported = support_[i] >= 0;
     const Vec3<T> up = supported ? support_normal(i) : Vec3<T>{T{}, Num<T>::from_int(1), T{}};
     // eq 112: a body not over its support may be tipping: not slowed (it sleeps only on its own counter).
@@ -128,9 +129,15 @@ void World<T>::update_sleep() {
       b.asleep = true;
       b.sleep_frame = frame_;
     } else if (b.sleep_counter >= P_.sleep_frames) {
-      ready.push_back(static_cast<int>(i));
+      state[i] = 2;
     }
     check_faults(static_cast<int>(i), "sleep");
+  });
+  std::vector<int>& ready = scratch_.order;
+  ready.clear();
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    counters_.sleep_updates += state[i] != 0 ? 1u : 0u;
+    if (state[i] == 2) ready.push_back(static_cast<int>(i));
   }
   // eq 109: the ready bodies in ascending (p.y, index) order; one falls
   // asleep (eq 80) when every dynamic body it rests on (the other sides of

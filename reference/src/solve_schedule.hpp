@@ -87,38 +87,52 @@ struct PassPlan {
         if (x != y) root[static_cast<std::size_t>(std::max(x, y))] = std::min(x, y);
       }
     }
-    std::vector<std::int64_t> island_weight(bodies, 0);  // per root (its island's lowest body)
+    // The islands, each with its weight (its bodies' contact points) and
+    // its members; taken heaviest first (ties: lowest root, its lowest body).
+    std::vector<int> island_at(bodies, -1);  // per root: its island's place in `roots`
+    std::vector<int> roots;
+    std::vector<std::int64_t> island_weight;
+    std::vector<int> member_island(members.size());
     std::int64_t total = 0;
-    for (int b : members) {
-      island_weight[static_cast<std::size_t>(find(b))] += weight[static_cast<std::size_t>(b)];
-      total += weight[static_cast<std::size_t>(b)];
-    }
-    std::sort(members.begin(), members.end(), [&](int a, int b) {
-      const int ra = find(a), rb = find(b);
-      if (ra != rb) {
-        const std::int64_t wa = island_weight[static_cast<std::size_t>(ra)], wb = island_weight[static_cast<std::size_t>(rb)];
-        return wa != wb ? wa > wb : ra < rb;
+    for (std::size_t m = 0; m < members.size(); ++m) {
+      const int r = find(members[m]);
+      int& at = island_at[static_cast<std::size_t>(r)];
+      if (at < 0) {
+        at = static_cast<int>(roots.size());
+        roots.push_back(r);
+        island_weight.push_back(0);
       }
-      return before(a, b);
+      member_island[m] = at;
+      island_weight[static_cast<std::size_t>(at)] += weight[static_cast<std::size_t>(members[m])];
+      total += weight[static_cast<std::size_t>(members[m])];
+    }
+    std::vector<int> by_weight(roots.size());
+    for (std::size_t k = 0; k < roots.size(); ++k) by_weight[k] = static_cast<int>(k);
+    std::sort(by_weight.begin(), by_weight.end(), [&](int x, int y) {
+      const std::int64_t wx = island_weight[static_cast<std::size_t>(x)], wy = island_weight[static_cast<std::size_t>(y)];
+      return wx != wy ? wx > wy : roots[static_cast<std::size_t>(x)] < roots[static_cast<std::size_t>(y)];
     });
     std::vector<int> owner(bodies, -1);   // per body of a cut island: its part
     std::vector<int> island_of(bodies, -1);  // per root of a whole island: its index in `island`
     std::vector<std::int64_t> load(static_cast<std::size_t>(parts), 0);
+    std::vector<int> cut_members;
     island.clear();
     part.assign(static_cast<std::size_t>(parts), {});
     part_islands.assign(static_cast<std::size_t>(parts), {});
-    for (std::size_t k = 0; k < members.size();) {
-      const int r = find(members[k]);
-      std::size_t e = k;
-      while (e < members.size() && find(members[e]) == r) ++e;
-      const std::int64_t w = island_weight[static_cast<std::size_t>(r)];
-      if (w * parts > total) {  // cut
+    for (const int at : by_weight) {
+      const int r = roots[static_cast<std::size_t>(at)];
+      const std::int64_t w = island_weight[static_cast<std::size_t>(at)];
+      if (w * parts > total) {  // cut: its bodies in `before` order, in runs of about equal weight
+        cut_members.clear();
+        for (std::size_t m = 0; m < members.size(); ++m)
+          if (member_island[m] == at) cut_members.push_back(members[m]);
+        std::sort(cut_members.begin(), cut_members.end(), before);
         std::int64_t so_far = 0;
-        for (std::size_t m = k; m < e; ++m) {
+        for (const int b : cut_members) {
           const int p = static_cast<int>(std::min<std::int64_t>(parts - 1, so_far * parts / std::max<std::int64_t>(w, 1)));
-          owner[static_cast<std::size_t>(members[m])] = p;
-          so_far += weight[static_cast<std::size_t>(members[m])];
-          load[static_cast<std::size_t>(p)] += weight[static_cast<std::size_t>(members[m])];
+          owner[static_cast<std::size_t>(b)] = p;
+          so_far += weight[static_cast<std::size_t>(b)];
+          load[static_cast<std::size_t>(p)] += weight[static_cast<std::size_t>(b)];
         }
       } else {  // whole
         const auto p = static_cast<std::size_t>(std::min_element(load.begin(), load.end()) - load.begin());
@@ -127,7 +141,6 @@ struct PassPlan {
         part_islands[p].push_back(static_cast<int>(island.size()));
         island.emplace_back();
       }
-      k = e;
     }
     for (int v : order) {
       const std::array<int, 2>& b = body[static_cast<std::size_t>(v)];

@@ -9,6 +9,7 @@ namespace lockstep {
 
 #if defined(LOCKSTEP_NO_THREADS)
 ThreadPool::ThreadPool(int threads) : threads_(threads > 1 ? threads : 1) {}
+void ThreadPool::set_hot(bool) {}
 ThreadPool::~ThreadPool() = default;
 int ThreadPool::workers() const { return 0; }
 void ThreadPool::run_erased(int parts, Fn fn, const void* arg) {
@@ -49,6 +50,13 @@ ThreadPool::ThreadPool(int threads) : threads_(threads > 1 ? threads : 1) {
 
 int ThreadPool::workers() const { return static_cast<int>(workers_.size()); }
 
+void ThreadPool::set_hot(bool hot) {
+  hot = hot && may_spin_;
+  if (hot_.exchange(hot, std::memory_order_relaxed) == hot || !hot) return;
+  generation_.fetch_add(1, std::memory_order_release);  // a wake-up with no region: the workers spin from now
+  generation_.notify_all();
+}
+
 ThreadPool::~ThreadPool() {
   stop_ = true;
   generation_.fetch_add(1, std::memory_order_release);
@@ -62,7 +70,8 @@ void ThreadPool::run_erased(int parts, Fn fn, const void* arg) {
   parts_ = parts;
   for (std::exception_ptr& e : errors_) e = nullptr;
   pending_.store(static_cast<int>(workers_.size()), std::memory_order_relaxed);  // every worker acknowledges every region
-  generation_.fetch_add(1, std::memory_order_release);  // publishes fn_, arg_, parts_
+  regions_.fetch_add(1, std::memory_order_release);  // publishes fn_, arg_, parts_ and pending_
+  generation_.fetch_add(1, std::memory_order_release);
   generation_.notify_all();
   try {
     fn(arg, 0);
@@ -76,7 +85,7 @@ void ThreadPool::run_erased(int parts, Fn fn, const void* arg) {
 }
 
 void ThreadPool::work(int index) {
-  std::uint32_t seen = 0;
+  std::uint32_t seen = 0, seen_regions = 0;
   for (;;) {
     std::uint32_t now = seen;
     // Spin kSpin at a time while the pool is hot, then block.
@@ -84,6 +93,9 @@ void ThreadPool::work(int index) {
       if (!hot_.load(std::memory_order_relaxed)) generation_.wait(seen, std::memory_order_acquire);
     seen = now;
     if (stop_) return;
+    const std::uint32_t region = regions_.load(std::memory_order_acquire);
+    if (region == seen_regions) continue;  // woken to spin (set_hot), no region yet
+    seen_regions = region;  // (one more: the caller starts a region only when every worker has acknowledged the last)
     if (index < parts_) {
       try {
         fn_(arg_, index);

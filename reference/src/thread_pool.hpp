@@ -48,7 +48,9 @@ class ThreadPool {
   // spins on (its spinning workers would take the cores from those with
   // work: threads_test's 8 threads on 2 cores ran 15x slower). Timing only:
   // never a result.
-  void set_hot(bool hot) { hot_.store(hot && may_spin_, std::memory_order_relaxed); }
+  // Turning hot wakes the blocked workers at once (not at the step's first
+  // region).
+  void set_hot(bool hot);
 
   // Runs part(k) for k in [0, parts), parts <= size(): part 0 on the calling
   // thread, part k on worker k - 1; returns when every part has returned.
@@ -77,7 +79,8 @@ class ThreadPool {
   Fn fn_ = nullptr;
   const void* arg_ = nullptr;
   int parts_ = 0;
-  std::atomic<std::uint32_t> generation_{0};  // bumped to start a region (and to stop)
+  std::atomic<std::uint32_t> generation_{0};  // bumped to wake the workers: a region, turning hot, stopping
+  std::atomic<std::uint32_t> regions_{0};     // bumped to start a region (publishes fn_, arg_, parts_)
   std::atomic<int> pending_{0};               // workers that have not finished this region
   bool stop_ = false;
   std::atomic<bool> hot_{false};

@@ -6,6 +6,7 @@
 #include "lockstep/world.hpp"
 
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -185,6 +186,45 @@ void World<T>::parallel_for(std::size_t count, std::size_t grain, const Body& bo
         failed[static_cast<std::size_t>(part)] = k;
         errors[static_cast<std::size_t>(part)] = std::current_exception();
         return;
+      }
+    }
+  });
+  std::size_t first = parts;
+  for (std::size_t p = 0; p < parts; ++p)
+    if (errors[p] && (first == parts || failed[p] < failed[first])) first = p;
+  if (first < parts) std::rethrow_exception(errors[first]);
+}
+
+template <class T>
+template <class Body>
+void World<T>::parallel_each(std::size_t count, std::size_t grain, const Body& body) {
+  grain = std::max<std::size_t>(grain, 1);
+  const std::size_t parts = std::min<std::size_t>(static_cast<std::size_t>(workers_.threads), count / grain);
+  if (parts <= 1) {
+    for (std::size_t k = 0; k < count; ++k) body(k, 0);
+    return;
+  }
+  if (!workers_.pool) workers_.pool = std::make_shared<ThreadPool>(workers_.threads);
+  // Chunks go out in ascending order, so when a part stops at its first
+  // RunError every lower item has gone to some part, which runs it (and
+  // stops at its own first error): the lowest item's is rethrown, the one a
+  // single thread would have met first.
+  const std::size_t chunks = (count + grain - 1) / grain;
+  std::atomic<std::size_t> next{0};
+  std::array<std::size_t, 256> failed;  // parts <= threads <= 256 (set_threads)
+  std::array<std::exception_ptr, 256> errors;
+  failed.fill(count);
+  workers_.pool->run(static_cast<int>(parts), [&](int part) {
+    if (part != 0) Num<T>::take_faults();  // a worker's faults: none left from an earlier region
+    for (std::size_t c; (c = next.fetch_add(1, std::memory_order_relaxed)) < chunks;) {
+      for (std::size_t k = c * grain, hi = std::min(count, (c + 1) * grain); k < hi; ++k) {
+        try {
+          body(k, part);
+        } catch (const RunError&) {
+          failed[static_cast<std::size_t>(part)] = k;
+          errors[static_cast<std::size_t>(part)] = std::current_exception();
+          return;
+        }
       }
     }
   });

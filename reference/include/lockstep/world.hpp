@@ -294,6 +294,13 @@ class World {
   // is rethrown.
   template <class Body>
   void parallel_for(std::size_t count, std::size_t grain, const Body& body);
+  // The same for work whose items are independent and whose parts keep
+  // nothing in order: chunks of `grain` items handed out in ascending order
+  // to whichever thread is free (items' costs vary: asleep bodies, pairs
+  // whose boxes miss), `part` the running part's number, which may index
+  // only accumulators that any order fills alike (integer counts).
+  template <class Body>
+  void parallel_each(std::size_t count, std::size_t grain, const Body& body);
   void check_finite();
   void read_moving_state(snap::Reader& r, std::uint32_t frame, bool derived_valid);  // snapshot.hpp
   void read_ids_and_forces(snap::Reader& r);  // snapshot_load.hpp
@@ -371,6 +378,7 @@ class World {
   struct EnvPart {
     std::vector<Contact<T>> contacts;
     std::uint64_t ground = 0, sdf = 0;
+    std::size_t first = 0;  // its first contact's place in the frame's list
   };
   // A solver visit's last outcome: whether it applied no impulse (and the
   // sides' velocity versions then), whether it changed them by less than
@@ -397,6 +405,7 @@ class World {
   // - stage 9 (sleep.hpp): eq 109's rests-on pairs.
   struct FrameScratch {
     std::vector<std::pair<int, int>> rests_on;  // stage 9 scratch: (body, dynamic body it rests on), sorted (eq 109)
+    std::vector<char> sleep_state;              // stage 9: per body, whether eqs 78-79 ran on it and it is ready (eq 109)
     std::vector<int> settle_order;     // narrow_phase: awake supported bodies in stage 6's order (settle, eq 112's chain)
     std::vector<Vec3<T>> w_solved;     // stage 6 scratch: per body, its angular velocity as the solver left it (eqs 72-74)
     std::vector<int> load_parent;      // stage 3 scratch: per body, its load parent (eq 117) or kLoadNone
@@ -419,7 +428,7 @@ class World {
     std::vector<ImpulseDelta<T>> warm_delta;  // stage 5: per contact, its warm start's velocity changes (eq 96)
     std::vector<char> warmed;                 // stage 5: per contact, whether it was warm started (eq 96)
     std::vector<std::uint32_t> warm_faults;   // stage 5: per contact, its warm start's Q16 flags (3 per contact: the impulse, side a, side b)
-    std::vector<EnvPart> env_parts;  // per part of the bodies: its environment contacts (kept: a frame's buffers are large)
+    std::vector<EnvPart> env_parts;  // per chunk of 64 bodies: its environment contacts (kept: a frame's buffers are large)
     std::vector<BoxManifold<T>> pair_manifolds;  // per pair of pairs_: its manifold (eqs 100-106; count 0: none)
     std::vector<int> pair_deepest;   // per pair with points: its deepest point, which corrects the pair (eq 110)
     std::vector<T> pair_depth;       // per pair with points: the mean depth of its points (eq 110)
