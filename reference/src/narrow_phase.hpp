@@ -13,12 +13,12 @@ namespace lockstep {
 
 template <class T>
 void World<T>::narrow_phase() {
-  // contacts_ and pair_contacts are not cleared: they are resized to this
-  // frame's count, and every element kept is overwritten, so that only a
-  // longer list constructs its tail (value-initialising 2,000 contacts of
-  // 288 bytes took 0.1 ms of a frame on one thread).
+  // contacts_ is not cleared: it is resized to this frame's count, and
+  // every element kept is overwritten, so that only a longer list
+  // constructs its tail (value-initialising 2,000 contacts of 288 bytes took
+  // 0.1 ms of a frame on one thread).
   std::fill(wake_load_.begin(), wake_load_.end(), 0);
-  std::vector<Contact<T>>& pair_contacts = scratch_.pair_contacts;
+  std::vector<ContactPoint<T>>& pair_contacts = scratch_.pair_contacts;
   const T half_tol = P_.contact_tolerance * Num<T>::from_double(0.5);
   const T tol = half_tol + half_tol;  // the two growths together
   // Body against body, pairs in ascending (i, j) order.
@@ -64,8 +64,8 @@ void World<T>::narrow_phase() {
     parallel_each(pairs_.size(), 64, [&](std::size_t pk, int) {
       const BoxManifold<T>& m = scratch_.pair_manifolds[pk];
       for (int k = 0; k < m.count; ++k) {
-        Contact<T>& c = pair_contacts[static_cast<std::size_t>(first[pk] + k)];
-        c = Contact<T>{};  // whole: the element may hold an earlier frame's contact
+        ContactPoint<T>& c = pair_contacts[static_cast<std::size_t>(first[pk] + k)];
+        c = ContactPoint<T>{};  // whole: the element may hold an earlier frame's point
         c.a = pairs_[pk].first;
         c.b = pairs_[pk].second;
         c.n = m.n;
@@ -85,7 +85,7 @@ void World<T>::narrow_phase() {
     const PairContact<T> pc = pair_contact(A.p, A.aabb_half, B.p, B.aabb_half, half_tol, tol);
     if (!pc.hit) continue;
     {
-      Contact<T> c;
+      ContactPoint<T> c;
       c.a = i;
       c.b = j;
       c.n = pc.n;
@@ -110,7 +110,7 @@ void World<T>::narrow_phase() {
   }
   parallel_each(bodies_.size(), kEnvChunk, [&](std::size_t i, int) {
     EnvPart& out = env[i / kEnvChunk];
-    std::vector<Contact<T>>& list = out.contacts;
+    std::vector<ContactPoint<T>>& list = out.contacts;
     const Body<T>& b = bodies_[i];
     if (!b.awake()) return;  // 7.3
     // eqs 97, 107: ground corners are speculative contacts within the contact
@@ -129,7 +129,7 @@ void World<T>::narrow_phase() {
         Vec3<T> corner;
         const T depth = ground_corner_depth(b.p, b.R, b.half, k, ground_y_, corner);  // eq 84
         if (!(depth > -reach_tol)) continue;  // eq 97: speculative within the tolerance (and reach, eq 107)
-        Contact<T> c;
+        ContactPoint<T> c;
         c.a = static_cast<int>(i);
         c.b = -1;
         c.n = Vec3<T>{T{}, Num<T>::from_int(1), T{}};
@@ -156,7 +156,7 @@ void World<T>::narrow_phase() {
         for (int s = 0; s < 9; ++s) {
           const SdfContact<T> sc = sdf_sample_contact(b.p, b.R, b.half, g, s, P_.contact_tolerance);  // eqs 33-37, 97
           if (!sc.hit) continue;
-          Contact<T> c;
+          ContactPoint<T> c;
           c.a = static_cast<int>(i);
           c.b = -2 - static_cast<int>(k);
           c.n = sc.n;
@@ -185,9 +185,9 @@ void World<T>::narrow_phase() {
   }
   contacts_.resize(env_count + pair_contacts.size());
   parallel_each(env.size(), 1, [&](std::size_t k, int) {
-    std::copy(env[k].contacts.begin(), env[k].contacts.end(), contacts_.begin() + static_cast<std::ptrdiff_t>(env[k].first));
+    for (std::size_t m = 0; m < env[k].contacts.size(); ++m) env[k].contacts[m].assign_to(contacts_[env[k].first + m]);
   });
-  parallel_each(pair_contacts.size(), 256, [&](std::size_t k, int) { contacts_[env_count + k] = pair_contacts[k]; });
+  parallel_each(pair_contacts.size(), 256, [&](std::size_t k, int) { pair_contacts[k].assign_to(contacts_[env_count + k]); });
 
   // Support contacts (settling, sleep): touching to within slop (penetration
   // > -slop: rounding noise of a resting body is not a gap, a speculative gap
@@ -330,8 +330,13 @@ void World<T>::narrow_phase() {
     scratch_.load_mass.resize(bodies_.size());
     scratch_.load_offset.resize(bodies_.size());
     scratch_.load_tips.resize(bodies_.size());
-    for (auto it = scratch_.settle_order.rbegin(); it != scratch_.settle_order.rend(); ++it) {
-      const int idx = *it;
+    // Top down (stage 6's order reversed), each load tree on its own (a
+    // body reads its load children's loads alone).
+    auto awake_load_parent = [&](int idx) {
+      const int s = scratch_.load_parent[static_cast<std::size_t>(idx)];
+      return s >= 0 && !bodies_[static_cast<std::size_t>(s)].asleep ? s : -1;
+    };
+    in_order_by_groups(scratch_.settle_order, true, awake_load_parent, [&](int idx) {
       const auto i = static_cast<std::size_t>(idx);
       const auto [first, last] = form_load(idx, scratch_.load_children);
       check_faults(idx, "load (eq 117)");
@@ -347,7 +352,7 @@ void World<T>::narrow_phase() {
       }
       if (!load_rests(child_tips)) can_rest_[i] = 0;
       scratch_.load_tips[i] = load_tips(over_support_[i] != 0, child_tips) ? 1 : 0;
-    }
+    });
     if (!scratch_.sleeper_children.empty()) sleeper_loads();
   }
   // eq 112's chain, in that order: a body riding on a body that tips tips too.

@@ -21,14 +21,20 @@ void World<T>::settle() {
     scratch_.w_solved.resize(bodies_.size());
     for (std::size_t k = 0; k < bodies_.size(); ++k) scratch_.w_solved[k] = bodies_[k].w;
   }
-  for (int idx : scratch_.settle_order) {
+  // A body reads, of the others, only its first support's velocity: each
+  // chain of supports runs on its own, lowest first.
+  auto other_of = [&](int idx) {
+    const Contact<T>& c = contacts_[static_cast<std::size_t>(support_[static_cast<std::size_t>(idx)])];
+    return c.a == idx ? c.b : c.a;
+  };
+  for (int idx : scratch_.settle_order)
+    if (!oriented || over_support_[static_cast<std::size_t>(idx)]) ++counters_.settling_bodies;
+  in_order_by_groups(scratch_.settle_order, false, other_of, [&](int idx) {
     const auto i = static_cast<std::size_t>(idx);
     Body<T>& b = bodies_[i];
-    if (oriented && !over_support_[i]) continue;  // eq 112: it tips; settling would hold it back
-    ++counters_.settling_bodies;
-    const Contact<T>& c = contacts_[static_cast<std::size_t>(support_[i])];  // the first support: whose velocity (75) uses
+    if (oriented && !over_support_[i]) return;  // eq 112: it tips; settling would hold it back
     const Vec3<T> n = support_normal(i);
-    const int other = c.a == idx ? c.b : c.a;
+    const int other = other_of(idx);  // the first support: whose velocity (75) uses
     const bool movable = other >= 0 && bodies_[static_cast<std::size_t>(other)].awake();
     const Vec3<T> v_support = movable ? bodies_[static_cast<std::size_t>(other)].v : Vec3<T>{};
     // The oriented-box model settles relative to the support (eq 77) and damps
@@ -38,7 +44,7 @@ void World<T>::settle() {
     b.w = settle_spin(b.w, oriented && movable, [&] { return scratch_.w_solved[static_cast<std::size_t>(other)]; }, b.R, n,
                       speed, leaning_[i] != 0, P_);  // eqs 64-74, 115, up = support normal
     check_faults(idx, "settling");
-  }
+  });
 }
 
 }  // namespace lockstep

@@ -14,8 +14,8 @@ namespace lockstep {
 // the velocities at the start of the solve; a body woken here does not wake
 // its own sleeping neighbours before the next frame.
 template <class T>
-void World<T>::wake_touched(const std::vector<Contact<T>>& pair_contacts) {
-  for (const Contact<T>& c : pair_contacts) {
+void World<T>::wake_touched(const std::vector<ContactPoint<T>>& pair_contacts) {
+  for (const ContactPoint<T>& c : pair_contacts) {
     Body<T>& A = bodies_[static_cast<std::size_t>(c.a)];
     Body<T>& B = bodies_[static_cast<std::size_t>(c.b)];
     Body<T>* sleeper = A.asleep ? &A : (B.asleep ? &B : nullptr);

@@ -128,6 +128,35 @@ struct Contact {
   ContactRows<T> row;    // eqs 114, 128-129: the normal and tangent rows and effective masses, for every pass
 };
 
+// A contact as the narrow phase finds it (the fields of Contact that stages
+// 3-4 set): the frame's list is filled from these on the world's threads,
+// each Contact written once (copying whole contacts, 288 bytes in Q16, from
+// the threads' lists was 0.1 ms of a 1,000-cube frame).
+template <class T>
+struct ContactPoint {
+  int a = 0, b = -1;
+  Vec3<T> n, point;
+  T penetration{};
+  bool corrects = true;
+  T correct_depth{};
+  int feature = 0;
+  // c becomes this point's contact, its solver state unset (in place: a
+  // Contact formed and then copied wrote its 288 bytes twice).
+  void assign_to(Contact<T>& c) const {
+    c.a = a;
+    c.b = b;
+    c.n = n;
+    c.point = point;
+    c.penetration = penetration;
+    c.corrects = corrects;
+    c.correct_depth = correct_depth;
+    c.feature = feature;
+    c.r1 = c.r2 = Vec3<T>{};
+    c.state = ContactState<T>{};
+    c.row = ContactRows<T>{};
+  }
+};
+
 // Result of a raycast (Appendix B).
 template <class T>
 struct RayHit {
@@ -272,7 +301,7 @@ class World {
   void integrate_velocities();   // integrate.hpp
   void broad_phase();            // broad_phase.hpp
   void narrow_phase();           // narrow_phase.hpp
-  void wake_touched(const std::vector<Contact<T>>& pair_contacts);  // sleep.hpp
+  void wake_touched(const std::vector<ContactPoint<T>>& pair_contacts);  // sleep.hpp
   void wake_unsupported();       // sleep.hpp (eq 108)
   void record_supports(std::size_t i);  // sleep.hpp (eqs 108, 124)
   using LoadChildren = std::vector<std::pair<int, int>>;  // (load parent, child), sorted (eqs 117, 124)
@@ -301,6 +330,13 @@ class World {
   // only accumulators that any order fills alike (integer counts).
   template <class Body>
   void parallel_each(std::size_t count, std::size_t grain, const Body& body);
+  // Runs run(idx) for the bodies of `order` in that order (reversed when
+  // `reverse`), where run(idx) reads, of the bodies it does not write, only
+  // dep(idx) (-1: none): the bodies joined by dep form groups that run on
+  // the world's threads, each in that order, so the result is the serial
+  // loop's. A RunError of the body first in the order is rethrown.
+  template <class Dep, class Run>
+  void in_order_by_groups(const std::vector<int>& order, bool reverse, const Dep& dep, const Run& run);
   void check_finite();
   void read_moving_state(snap::Reader& r, std::uint32_t frame, bool derived_valid);  // snapshot.hpp
   void read_ids_and_forces(snap::Reader& r);  // snapshot_load.hpp
@@ -376,7 +412,7 @@ class World {
   };
   // Stage 3's environment contacts of one part of the bodies (narrow_phase.hpp).
   struct EnvPart {
-    std::vector<Contact<T>> contacts;
+    std::vector<ContactPoint<T>> contacts;
     std::uint64_t ground = 0, sdf = 0;
     std::size_t first = 0;  // its first contact's place in the frame's list
   };
@@ -406,6 +442,7 @@ class World {
   struct FrameScratch {
     std::vector<std::pair<int, int>> rests_on;  // stage 9 scratch: (body, dynamic body it rests on), sorted (eq 109)
     std::vector<char> sleep_state;              // stage 9: per body, whether eqs 78-79 ran on it and it is ready (eq 109)
+    std::vector<int> group_root, group_of, group_begin, group_members;  // in_order_by_groups (world_impl.hpp)
     std::vector<int> settle_order;     // narrow_phase: awake supported bodies in stage 6's order (settle, eq 112's chain)
     std::vector<Vec3<T>> w_solved;     // stage 6 scratch: per body, its angular velocity as the solver left it (eqs 72-74)
     std::vector<int> load_parent;      // stage 3 scratch: per body, its load parent (eq 117) or kLoadNone
@@ -423,7 +460,7 @@ class World {
     std::vector<int> order;            // eq 110: the pair contacts that correct, bottom up
     std::vector<Vec3<T>> turn;         // eq 111: per body, the turn (rad) this frame's correction gave it
     BroadScratch broad;
-    std::vector<Contact<T>> pair_contacts;
+    std::vector<ContactPoint<T>> pair_contacts;
     std::vector<int> body_contact_begin, body_contacts;  // per body: its contacts in contact order ([begin[i], begin[i + 1]) in body_contacts)
     std::vector<ImpulseDelta<T>> warm_delta;  // stage 5: per contact, its warm start's velocity changes (eq 96)
     std::vector<char> warmed;                 // stage 5: per contact, whether it was warm started (eq 96)
