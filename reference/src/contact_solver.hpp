@@ -362,20 +362,33 @@ void World<T>::solve_contacts() {
       }
     }
   }
-  // The cache (eq 96), sorted by (a, b, feature) (a unique key: the same
-  // order for any cut): the contacts' halves sorted on the world's threads, then merged.
-  warm_.clear();
-  for (const Contact<T>& c : contacts_)
-    if (c.state.j_n > T{}) warm_.push_back({c.a, c.b, c.feature, c.state.j_n});
+  // The cache (eq 96), sorted by (a, b, feature) (a unique key): each
+  // body's entries (its contacts as side a with j_n > 0, from its list of
+  // contacts) formed and sorted on their own, placed by a running sum of
+  // their counts, so in body order.
   auto by_key = [](const CachedImpulse& x, const CachedImpulse& y) {
     return x.a != y.a ? x.a < y.a : (x.b != y.b ? x.b < y.b : x.feature < y.feature);
   };
-  const std::size_t halves = warm_.size() >= 512 ? 2 : 1;
-  parallel_for(halves, 1, [&](std::size_t h, int) {
-    std::sort(warm_.begin() + static_cast<std::ptrdiff_t>(warm_.size() * h / halves),
-              warm_.begin() + static_cast<std::ptrdiff_t>(warm_.size() * (h + 1) / halves), by_key);
+  auto cached = [&](std::size_t i, int k) {
+    const Contact<T>& c = contacts_[static_cast<std::size_t>(scratch_.body_contacts[static_cast<std::size_t>(k)])];
+    return c.a == static_cast<int>(i) && c.state.j_n > T{};
+  };
+  std::vector<int>& first = scratch_.warm_first;
+  first.assign(bodies_.size() + 1, 0);
+  parallel_each(bodies_.size(), 64, [&](std::size_t i, int) {
+    for (int k = scratch_.body_contact_begin[i]; k < scratch_.body_contact_begin[i + 1]; ++k) first[i + 1] += cached(i, k) ? 1 : 0;
   });
-  if (halves == 2) std::inplace_merge(warm_.begin(), warm_.begin() + static_cast<std::ptrdiff_t>(warm_.size() / 2), warm_.end(), by_key);
+  for (std::size_t i = 0; i < bodies_.size(); ++i) first[i + 1] += first[i];
+  warm_.resize(static_cast<std::size_t>(first.back()));
+  parallel_each(bodies_.size(), 64, [&](std::size_t i, int) {
+    auto at = warm_.begin() + first[i];
+    for (int k = scratch_.body_contact_begin[i]; k < scratch_.body_contact_begin[i + 1]; ++k) {
+      if (!cached(i, k)) continue;
+      const Contact<T>& c = contacts_[static_cast<std::size_t>(scratch_.body_contacts[static_cast<std::size_t>(k)])];
+      *at++ = {c.a, c.b, c.feature, c.state.j_n};
+    }
+    std::sort(warm_.begin() + first[i], at, by_key);
+  });
 }
 
 template <class T>
@@ -458,14 +471,17 @@ void World<T>::correct_positions() {
     if (c.b < 0) { correct(c, false); continue; }
     if (c.corrects) scratch_.order.push_back(static_cast<int>(ci));
   }
-  auto lower_y = [&](int ci) {
+  std::vector<std::pair<T, int>>& keys = scratch_.order_keys;  // (the lower side's y, the contact)
+  keys.clear();
+  for (const int ci : scratch_.order) {
     const Contact<T>& c = contacts_[static_cast<std::size_t>(ci)];
     const T ya = scratch_.corrected_from[static_cast<std::size_t>(c.a)].y, yb = scratch_.corrected_from[static_cast<std::size_t>(c.b)].y;
-    return Num<T>::min(ya, yb);
-  };
-  std::sort(scratch_.order.begin(), scratch_.order.end(), [&](int x, int y) {
-    return settles_before(lower_y(x), x, lower_y(y), y);
+    keys.emplace_back(Num<T>::min(ya, yb), ci);
+  }
+  std::sort(keys.begin(), keys.end(), [](const std::pair<T, int>& x, const std::pair<T, int>& y) {
+    return settles_before(x.first, x.second, y.first, y.second);
   });
+  for (std::size_t k = 0; k < keys.size(); ++k) scratch_.order[k] = keys[k].second;
   for (int ci : scratch_.order) {
     const Contact<T>& c = contacts_[static_cast<std::size_t>(ci)];
     correct(c, is_support_pair(c.n, P_.support_normal_min));

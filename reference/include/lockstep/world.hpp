@@ -458,6 +458,8 @@ class World {
     std::vector<int> sleeper_loads;    // stage 3 scratch: the sleepers whose load eq 124 forms, top down
     std::vector<Vec3<T>> corrected_from;  // per body: its position before this frame's correction (eq 89 order)
     std::vector<int> order;            // eq 110: the pair contacts that correct, bottom up
+    std::vector<std::pair<T, int>> order_keys;  // eq 110: (lower side's y, contact) of each, sorted
+    std::vector<int> warm_first;       // eq 96's cache: per body, its first entry (the bodies in order)
     std::vector<Vec3<T>> turn;         // eq 111: per body, the turn (rad) this frame's correction gave it
     BroadScratch broad;
     std::vector<ContactPoint<T>> pair_contacts;
