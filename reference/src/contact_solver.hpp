@@ -419,29 +419,29 @@ void World<T>::correct_positions() {
     const int k = ground_correction_point(static_cast<int>(hi - lo), point, bounces, depth);  // eq 89
     return k >= 0 && !bounces(k);
   };
+  // Returns whether it corrected (counted by the caller).
   auto correct = [&](const Contact<T>& c, bool lower_fixed) {
-    if (!c.corrects || (c.state.e > T{} && !tied_point_rests(c))) return;
+    if (!c.corrects || (c.state.e > T{} && !tied_point_rests(c))) return false;
     Body<T>& A = bodies_[static_cast<std::size_t>(c.a)];
     T inv_a = A.awake() ? A.inv_mass : T{};
     Vec3<T> ground_p;
     Body<T>* B = c.b >= 0 ? &bodies_[static_cast<std::size_t>(c.b)] : nullptr;
     T inv_b = (B != nullptr && B->awake()) ? B->inv_mass : T{};
-    if (inv_a == T{} && inv_b == T{}) return;
+    if (inv_a == T{} && inv_b == T{}) return false;
     if (B != nullptr && scratch_.oriented_correction) {  // eq 110 (physics/contact.hpp, shared with the GPU engine)
       manifold_correction(A.p, scratch_.corrected_from[static_cast<std::size_t>(c.a)], B->p,
                           scratch_.corrected_from[static_cast<std::size_t>(c.b)], c.n, c.correct_depth, inv_a, inv_b,
                           lower_fixed, P_.slop, P_.baumgarte);
-      ++counters_.corrections;
       check_faults(c.a, "position correction");
-      return;
+      return true;
     }
     Vec3<T>& pb = B != nullptr ? B->p : ground_p;
     Vec3<T> moved = A.p - scratch_.corrected_from[static_cast<std::size_t>(c.a)];
     if (B != nullptr) moved -= B->p - scratch_.corrected_from[static_cast<std::size_t>(c.b)];
     const T pen = B != nullptr ? c.penetration : c.penetration - dot(moved, c.n);  // pairs: the AABB model's eq 89
     baumgarte_correction(A.p, pb, c.n, pen, inv_a, inv_b, P_.slop, P_.baumgarte);  // eqs 63, 89
-    ++counters_.corrections;
     check_faults(c.a, "position correction");
+    return true;
   };
   if (scene_.pair_contacts == PairModel::kAabb) {
     // eq 89's order: body pairs first, in contact order; then the contacts with
@@ -452,7 +452,7 @@ void World<T>::correct_positions() {
     scratch_.oriented_correction = false;
     for (int pass = 0; pass < 2; ++pass)
       for (const Contact<T>& c : contacts_)
-        if ((c.b >= 0) == (pass == 0)) correct(c, false);
+        if ((c.b >= 0) == (pass == 0) && correct(c, false)) ++counters_.corrections;
     return;
   }
   // eq 110 (oriented-box model): the world first (ground and SDF contacts, in
@@ -468,7 +468,10 @@ void World<T>::correct_positions() {
   scratch_.order.clear();
   for (std::size_t ci = 0; ci < contacts_.size(); ++ci) {
     const Contact<T>& c = contacts_[ci];
-    if (c.b < 0) { correct(c, false); continue; }
+    if (c.b < 0) {
+      if (correct(c, false)) ++counters_.corrections;
+      continue;
+    }
     if (c.corrects) scratch_.order.push_back(static_cast<int>(ci));
   }
   std::vector<std::pair<T, int>>& keys = scratch_.order_keys;  // (the lower side's y, the contact)
@@ -482,28 +485,38 @@ void World<T>::correct_positions() {
     return settles_before(x.first, x.second, y.first, y.second);
   });
   for (std::size_t k = 0; k < keys.size(); ++k) scratch_.order[k] = keys[k].second;
-  for (int ci : scratch_.order) {
-    const Contact<T>& c = contacts_[static_cast<std::size_t>(ci)];
-    correct(c, is_support_pair(c.n, P_.support_normal_min));
-  }
-  // eq 111: then every point of each pair, in the same order, pushed out of
-  // what it still penetrates by turning as well as moving its sides.
-  if (scratch_.order.empty()) return;
+  // Eq 110 over the pairs in this order, then eq 111 over them again. A
+  // pair touches its two bodies alone (their positions and eq 111's turns),
+  // so the bodies joined by pairs (asleep and static ones included) form
+  // groups that run on the world's threads, each in this order: the serial
+  // sweep's bits.
+  const std::size_t m = scratch_.order.size();
+  if (m == 0) return;
   scratch_.turn.assign(bodies_.size(), Vec3<T>{});
-  for (int ci : scratch_.order) {
-    const Contact<T>& c = contacts_[static_cast<std::size_t>(ci)];
+  std::vector<char>& corrected = scratch_.pair_corrected;
+  corrected.assign(m, 0);
+  auto pair_at = [&](std::size_t k) -> const Contact<T>& { return contacts_[static_cast<std::size_t>(scratch_.order[k % m])]; };
+  items_by_groups(2 * m, [&](std::size_t k) { return std::array<int, 2>{pair_at(k).a, pair_at(k).b}; }, [&](std::size_t k) {
+    const Contact<T>& c = pair_at(k);
+    if (k < m) {  // eq 110
+      corrected[k] = correct(c, is_support_pair(c.n, P_.support_normal_min)) ? 1 : 0;
+      return;
+    }
+    // eq 111: every point of the pair pushed out of what it still
+    // penetrates by turning as well as moving its sides.
+    const std::size_t ci = static_cast<std::size_t>(&c - contacts_.data());
     const auto ia = static_cast<std::size_t>(c.a), ib = static_cast<std::size_t>(c.b);
     Body<T>& A = bodies_[ia];
     Body<T>& B = bodies_[ib];
     BodyView<T> va{A.p - scratch_.corrected_from[ia], scratch_.turn[ia], A.awake() ? A.inv_mass : T{}, A.R, A.awake() ? A.inv_inertia : Vec3<T>{}};
     BodyView<T> vb{B.p - scratch_.corrected_from[ib], scratch_.turn[ib], B.awake() ? B.inv_mass : T{}, B.R, B.awake() ? B.inv_inertia : Vec3<T>{}};
-    if (va.inv_mass == T{} && vb.inv_mass == T{}) continue;
+    if (va.inv_mass == T{} && vb.inv_mass == T{}) return;
     hold_lower_side(va, vb, c.n, P_.support_normal_min);  // eq 111: only the upper side moves, if it can
-    std::size_t lo = static_cast<std::size_t>(ci), hi = lo + 1;
+    std::size_t lo = ci, hi = lo + 1;
     while (lo > 0 && contacts_[lo - 1].a == c.a && contacts_[lo - 1].b == c.b) --lo;
     while (hi < contacts_.size() && contacts_[hi].a == c.a && contacts_[hi].b == c.b) ++hi;
-    for (std::size_t k = lo; k < hi; ++k) {
-      const Contact<T>& p = contacts_[k];
+    for (std::size_t j = lo; j < hi; ++j) {
+      const Contact<T>& p = contacts_[j];
       if (p.state.e > T{}) continue;  // a bouncing point separates by its rebound (eq 89)
       correct_manifold_point(va, p.r1, vb, p.r2, p.n, p.penetration, P_.slop, P_.baumgarte);  // eq 111
     }
@@ -512,7 +525,8 @@ void World<T>::correct_positions() {
     scratch_.turn[ia] = va.w;
     scratch_.turn[ib] = vb.w;
     check_faults(c.a, "position correction");
-  }
+  });
+  for (const char x : corrected) counters_.corrections += static_cast<unsigned char>(x);
   const T half = Num<T>::from_double(0.5);
   for (std::size_t i = 0; i < bodies_.size(); ++i)
     if (!(scratch_.turn[i] == Vec3<T>{})) bodies_[i].q = integrate_orientation(bodies_[i].q, scratch_.turn[i], half);  // eqs 7-10, a turn

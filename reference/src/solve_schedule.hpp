@@ -180,28 +180,40 @@ void run_passes(ThreadPool& pool, const PassPlan& plan, int passes, bool alterna
                 const Begin& begin_part) {
   const auto parts = static_cast<int>(plan.part.size());
   const auto V = static_cast<std::int64_t>(plan.order.size());
-  // Per body: its visits done, a cache line each. Packed 16 to a line, the
-  // counts of bodies that two parts run side by side (their indices
-  // interleave) moved between the cores at every visit: pile1000's frames
-  // 31-40, one island cut in two, took 0.70x the single thread's time on 2
-  // threads, 1.29x with a line each. Only the part running a visit of the
-  // body writes its count (the visits of one body are never run at once),
-  // and nobody blocks on it (no notify): a waiting part spins, then yields.
-  constexpr int kSpins = 256;  // pauses (about 40 ns each) before a waiting part yields: a visit takes 0.2-1 us
-  struct alignas(64) Done { std::atomic<int> n{0}; };
-  const std::unique_ptr<Done[]> done_lines(new Done[plan.count.size()]);
-  auto done_of = [&](std::size_t b) -> std::atomic<int>& { return done_lines[b].n; };
+  // Per body: its visits done (the low 20 bits; a body has at most
+  // passes x its visits, far fewer), plus kFailure for each part that
+  // failed, and how many parts block on it; a cache line each. Packed 16 to
+  // a line, the counts of bodies that two parts run side by side (their
+  // indices interleave) moved between the cores at every visit, and every
+  // visit notified (through libstdc++'s shared table of waiters):
+  // pile1000's frames 31-40, one island cut in two, took 0.70x the single
+  // thread's time on 2 threads, 1.29x with a line each and a notify only
+  // when a part blocks on the count. A waiting part spins, then blocks
+  // (more threads than cores: spinning or yielding took the cores from the
+  // parts with work).
+  constexpr int kCountMask = (1 << 20) - 1, kFailure = 1 << 20;
+  constexpr int kSpins = 256;  // pauses (about 40 ns each) before a waiting part blocks: a visit takes 0.2-1 us
+  struct alignas(64) Done {
+    std::atomic<int> n{0};
+    std::atomic<int> blocked{0};
+  };
+  const std::unique_ptr<Done[]> done(new Done[plan.count.size()]);
   constexpr std::int64_t kNone = std::numeric_limits<std::int64_t>::max();
   std::atomic<std::int64_t> first_failed{kNone};  // the lowest place (pass * V + place) of a RunError
   std::vector<std::int64_t> failed(static_cast<std::size_t>(parts), kNone);
   std::vector<std::exception_ptr> errors(static_cast<std::size_t>(parts));
-  // Records a RunError at `place`; a waiting part looks at first_failed
-  // between its spins (those past it stop, the others wait on).
+  // Records a RunError at `place` and wakes every waiting part to look at
+  // first_failed again (a change above the counts' bits; those past it
+  // stop, the others wait on).
   auto fail = [&](int p, std::int64_t place) {
     failed[static_cast<std::size_t>(p)] = place;
     errors[static_cast<std::size_t>(p)] = std::current_exception();
     std::int64_t low = first_failed.load(std::memory_order_relaxed);
     while (place < low && !first_failed.compare_exchange_weak(low, place, std::memory_order_relaxed)) {
+    }
+    for (std::size_t b = 0; b < plan.count.size(); ++b) {
+      done[b].n.fetch_add(kFailure);
+      done[b].n.notify_all();
     }
   };
   auto place_of = [&](std::size_t v, int it, bool back) {
@@ -239,21 +251,30 @@ void run_passes(ThreadPool& pool, const PassPlan& plan, int passes, bool alterna
         if (b < 0) continue;
         const int c = plan.count[static_cast<std::size_t>(b)], r = plan.rank[v][s];
         need[s] = it * c + (back ? c - 1 - r : r);  // the body's visits before this one
-        std::atomic<int>& d = done_of(static_cast<std::size_t>(b));
+        Done& d = done[static_cast<std::size_t>(b)];
         for (int spins = 0;; ++spins) {
-          const int now = d.load(std::memory_order_acquire);
-          if (now >= need[s]) break;
+          const int now = d.n.load(std::memory_order_acquire);
+          if ((now & kCountMask) >= need[s]) break;
           if (place > first_failed.load(std::memory_order_relaxed)) return false;
-          if (spins < kSpins) spin_pause();
-          else std::this_thread::yield();  // (more threads than cores: let the part it waits for run)
+          if (spins < kSpins) {
+            spin_pause();
+            continue;
+          }
+          // Block: announced first, then the count read again (seq_cst
+          // both, as the visit's increment and its look at `blocked`: one
+          // of the two sees the other), so no increment is missed.
+          d.blocked.fetch_add(1);
+          const int again = d.n.load();
+          if ((again & kCountMask) < need[s] && !(place > first_failed.load(std::memory_order_relaxed))) d.n.wait(again);
+          d.blocked.fetch_sub(1);
         }
       }
       if (place > first_failed.load(std::memory_order_relaxed) || !run_visit(v, it, p, place)) return false;
       for (std::size_t s = 0; s < 2; ++s) {
         if (need[s] < 0) continue;
-        // this visit held the body's count: need -> need + 1 (only this part writes it now)
-        std::atomic<int>& d = done_of(static_cast<std::size_t>(plan.body[v][s]));
-        d.store(d.load(std::memory_order_relaxed) + 1, std::memory_order_release);
+        Done& d = done[static_cast<std::size_t>(plan.body[v][s])];
+        d.n.fetch_add(1);  // this visit held the body's count: need -> need + 1
+        if (d.blocked.load() != 0) d.n.notify_all();
       }
       return true;
     });

@@ -235,20 +235,16 @@ void World<T>::parallel_each(std::size_t count, std::size_t grain, const Body& b
 }
 
 template <class T>
-template <class Dep, class Run>
-void World<T>::in_order_by_groups(const std::vector<int>& order, bool reverse, const Dep& dep, const Run& run) {
-  const std::size_t n = order.size();
-  auto serial = [&] {
-    for (std::size_t k = 0; k < n; ++k) run(order[reverse ? n - 1 - k : k]);
-  };
-  if (workers_.threads <= 1 || n < 128) {
-    serial();
+template <class Bodies, class Run>
+void World<T>::items_by_groups(std::size_t count, const Bodies& bodies_of, const Run& run) {
+  if (workers_.threads <= 1 || count < 128) {
+    for (std::size_t k = 0; k < count; ++k) run(k);
     return;
   }
-  // The groups: union-find over (idx, dep(idx)) within the order, the lower root joining.
+  // The groups: union-find over the items' bodies, the lower root joining.
   std::vector<int>& root = scratch_.group_root;
-  root.assign(bodies_.size(), -2);  // -2: not in the order
-  for (const int idx : order) root[static_cast<std::size_t>(idx)] = idx;
+  root.resize(bodies_.size());
+  for (std::size_t i = 0; i < bodies_.size(); ++i) root[i] = static_cast<int>(i);
   auto find = [&](int b) {
     while (root[static_cast<std::size_t>(b)] != b) {
       int& up = root[static_cast<std::size_t>(b)];
@@ -257,20 +253,24 @@ void World<T>::in_order_by_groups(const std::vector<int>& order, bool reverse, c
     }
     return b;
   };
-  for (const int idx : order) {
-    const int d = dep(idx);
-    if (d < 0 || root[static_cast<std::size_t>(d)] == -2) continue;
-    const int x = find(idx), y = find(d);
+  for (std::size_t k = 0; k < count; ++k) {
+    const std::array<int, 2> b = bodies_of(k);
+    if (b[0] < 0 || b[1] < 0) continue;
+    const int x = find(b[0]), y = find(b[1]);
     if (x != y) root[static_cast<std::size_t>(std::max(x, y))] = std::min(x, y);
   }
-  // Each group's bodies in the order (a counting sort by group, stable).
+  // Each group's items in ascending order (a counting sort by group, stable).
   std::vector<int>& group_of = scratch_.group_of;  // per root: its group
   std::vector<int>& begin = scratch_.group_begin;
   std::vector<int>& members = scratch_.group_members;
   group_of.assign(bodies_.size(), -1);
   begin.assign(1, 0);
-  for (const int idx : order) {
-    int& g = group_of[static_cast<std::size_t>(find(idx))];
+  auto group = [&](std::size_t k) {
+    const std::array<int, 2> b = bodies_of(k);
+    return &group_of[static_cast<std::size_t>(find(b[0] >= 0 ? b[0] : b[1]))];
+  };
+  for (std::size_t k = 0; k < count; ++k) {
+    int& g = *group(k);
     if (g < 0) {
       g = static_cast<int>(begin.size()) - 1;
       begin.push_back(0);
@@ -279,31 +279,27 @@ void World<T>::in_order_by_groups(const std::vector<int>& order, bool reverse, c
   }
   const std::size_t groups = begin.size() - 1;
   if (groups < 2) {
-    serial();
+    for (std::size_t k = 0; k < count; ++k) run(k);
     return;
   }
   for (std::size_t g = 0; g < groups; ++g) begin[g + 1] += begin[g];
-  members.resize(n);
+  members.resize(count);
   {
     std::vector<int> at(begin.begin(), begin.end() - 1);
-    for (std::size_t k = 0; k < n; ++k) {
-      const std::size_t idx_k = reverse ? n - 1 - k : k;  // members in run order
-      const int g = group_of[static_cast<std::size_t>(find(order[idx_k]))];
-      members[static_cast<std::size_t>(at[static_cast<std::size_t>(g)]++)] = static_cast<int>(idx_k);
-    }
+    for (std::size_t k = 0; k < count; ++k) members[static_cast<std::size_t>(at[static_cast<std::size_t>(*group(k))]++)] = static_cast<int>(k);
   }
   // Each group on its own; a RunError ends its group, and the one of the
-  // body first in the run order is rethrown.
+  // lowest item is rethrown.
   std::vector<std::exception_ptr> errors(groups);
-  std::vector<std::size_t> failed(groups, n);
+  std::vector<std::size_t> failed(groups, count);
   parallel_each(groups, 1, [&](std::size_t g, int) {
     for (int m = begin[g]; m < begin[g + 1]; ++m) {
       const auto k = static_cast<std::size_t>(members[static_cast<std::size_t>(m)]);
       try {
-        run(order[k]);
+        run(k);
       } catch (const RunError&) {
         errors[g] = std::current_exception();
-        failed[g] = reverse ? n - 1 - k : k;
+        failed[g] = k;
         return;
       }
     }
@@ -312,6 +308,14 @@ void World<T>::in_order_by_groups(const std::vector<int>& order, bool reverse, c
   for (std::size_t g = 0; g < groups; ++g)
     if (errors[g] && (first == groups || failed[g] < failed[first])) first = g;
   if (first < groups) std::rethrow_exception(errors[first]);
+}
+
+template <class T>
+template <class Dep, class Run>
+void World<T>::in_order_by_groups(const std::vector<int>& order, bool reverse, const Dep& dep, const Run& run) {
+  const std::size_t n = order.size();
+  auto at = [&](std::size_t k) { return order[reverse ? n - 1 - k : k]; };
+  items_by_groups(n, [&](std::size_t k) { return std::array<int, 2>{at(k), dep(at(k))}; }, [&](std::size_t k) { run(at(k)); });
 }
 
 template <class T>

@@ -110,9 +110,10 @@ TEST(ThreadsTest, MpGivesTheSameBitsOnThreeThreads) {
 // The busy frames of pile1000 (the columns falling into each other, up to
 // 6,000 contacts, 1,000 bodies): every stage runs in several parts (the
 // broad phase's cells, the environment's contacts, the stances, the manifolds
-// and the solver's passes, whose parts wait on each other's bodies), and the
-// bits and counters are the single thread's, frame for frame, on 2 and 3
-// threads (3: cuts that fall mid-column), fixed and float.
+// and the solver's passes, whose parts wait on each other's bodies; loads,
+// settling and eqs 110-111 by groups of bodies; positions and sleep counters
+// in chunks), and the bits and counters are the single thread's, frame for
+// frame, on 2 and 3 threads (3: cuts that fall mid-column), fixed and float.
 template <class T>
 void check_pile1000_busy_frames() {
   const Scene s = *builtin_scene("pile1000");
@@ -125,6 +126,10 @@ void check_pile1000_busy_frames() {
     EXPECT_EQ(one.counters.pairs_tested, many.counters.pairs_tested) << threads << " threads";
     EXPECT_EQ(one.counters.ground_contacts, many.counters.ground_contacts) << threads << " threads";
     EXPECT_EQ(one.counters.body_contacts, many.counters.body_contacts) << threads << " threads";
+    EXPECT_EQ(one.counters.corrections, many.counters.corrections) << threads << " threads";
+    EXPECT_EQ(one.counters.settling_bodies, many.counters.settling_bodies) << threads << " threads";
+    EXPECT_EQ(one.counters.sleep_updates, many.counters.sleep_updates) << threads << " threads";
+    EXPECT_EQ(one.counters.integrate_position, many.counters.integrate_position) << threads << " threads";
   }
 }
 TEST(ThreadsTest, Pile1000BusyFramesSameBitsOnTwoAndThreeThreadsFixed) { check_pile1000_busy_frames<Q16>(); }

@@ -330,11 +330,15 @@ class World {
   // only accumulators that any order fills alike (integer counts).
   template <class Body>
   void parallel_each(std::size_t count, std::size_t grain, const Body& body);
-  // Runs run(idx) for the bodies of `order` in that order (reversed when
-  // `reverse`), where run(idx) reads, of the bodies it does not write, only
-  // dep(idx) (-1: none): the bodies joined by dep form groups that run on
-  // the world's threads, each in that order, so the result is the serial
-  // loop's. A RunError of the body first in the order is rethrown.
+  // Runs run(k) for the items k in [0, count), where item k touches (reads
+  // or writes) only the bodies bodies_of(k) (two; -1: none) and what no
+  // other item writes: the items joined by shared bodies form groups that
+  // run on the world's threads, each in ascending k, so the result is the
+  // serial loop's. A RunError of the lowest item is rethrown.
+  template <class Bodies, class Run>
+  void items_by_groups(std::size_t count, const Bodies& bodies_of, const Run& run);
+  // The same for the bodies of `order` in that order (reversed when
+  // `reverse`), run(idx) touching only body idx and dep(idx) (-1: none).
   template <class Dep, class Run>
   void in_order_by_groups(const std::vector<int>& order, bool reverse, const Dep& dep, const Run& run);
   void check_finite();
@@ -442,7 +446,7 @@ class World {
   struct FrameScratch {
     std::vector<std::pair<int, int>> rests_on;  // stage 9 scratch: (body, dynamic body it rests on), sorted (eq 109)
     std::vector<char> sleep_state;              // stage 9: per body, whether eqs 78-79 ran on it and it is ready (eq 109)
-    std::vector<int> group_root, group_of, group_begin, group_members;  // in_order_by_groups (world_impl.hpp)
+    std::vector<int> group_root, group_of, group_begin, group_members;  // items_by_groups (world_impl.hpp)
     std::vector<int> settle_order;     // narrow_phase: awake supported bodies in stage 6's order (settle, eq 112's chain)
     std::vector<Vec3<T>> w_solved;     // stage 6 scratch: per body, its angular velocity as the solver left it (eqs 72-74)
     std::vector<int> load_parent;      // stage 3 scratch: per body, its load parent (eq 117) or kLoadNone
@@ -459,6 +463,7 @@ class World {
     std::vector<Vec3<T>> corrected_from;  // per body: its position before this frame's correction (eq 89 order)
     std::vector<int> order;            // eq 110: the pair contacts that correct, bottom up
     std::vector<std::pair<T, int>> order_keys;  // eq 110: (lower side's y, contact) of each, sorted
+    std::vector<char> pair_corrected;  // eq 110: per pair of `order`, whether it was corrected (counted)
     std::vector<int> warm_first;       // eq 96's cache: per body, its first entry (the bodies in order)
     std::vector<Vec3<T>> turn;         // eq 111: per body, the turn (rad) this frame's correction gave it
     BroadScratch broad;
