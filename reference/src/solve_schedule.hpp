@@ -188,9 +188,10 @@ void run_passes(ThreadPool& pool, const PassPlan& plan, int passes, bool alterna
   // visit notified (through libstdc++'s shared table of waiters):
   // pile1000's frames 31-40, one island cut in two, took 0.70x the single
   // thread's time on 2 threads, 1.29x with a line each and a notify only
-  // when a part blocks on the count. A waiting part spins, then blocks
-  // (more threads than cores: spinning or yielding took the cores from the
-  // parts with work).
+  // when a part blocks on the count. A waiting part spins, then yields and
+  // spins on (blocking cost those frames as much as the lines gained);
+  // with more threads than cores it blocks instead (spinning or yielding
+  // took the cores from the parts with work).
   constexpr int kCountMask = (1 << 20) - 1, kFailure = 1 << 20;
   constexpr int kSpins = 256;  // pauses (about 40 ns each) before a waiting part blocks: a visit takes 0.2-1 us
   struct alignas(64) Done {
@@ -258,6 +259,11 @@ void run_passes(ThreadPool& pool, const PassPlan& plan, int passes, bool alterna
           if (place > first_failed.load(std::memory_order_relaxed)) return false;
           if (spins < kSpins) {
             spin_pause();
+            continue;
+          }
+          if (pool.may_spin()) {
+            std::this_thread::yield();
+            spins = 0;
             continue;
           }
           // Block: announced first, then the count read again (seq_cst

@@ -51,6 +51,9 @@ class ThreadPool {
   // Turning hot wakes the blocked workers at once (not at the step's first
   // region).
   void set_hot(bool hot);
+  // Whether the pool has no more threads than the machine has cores (its
+  // waits may spin).
+  bool may_spin() const { return may_spin_; }
 
   // Runs part(k) for k in [0, parts), parts <= size(): part 0 on the calling
   // thread, part k on worker k - 1; returns when every part has returned.
