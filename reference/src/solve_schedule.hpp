@@ -36,6 +36,7 @@
 
 #include "lockstep/world.hpp"
 #include "thread_pool.hpp"
+#include "union_find.hpp"
 
 namespace lockstep {
 
@@ -63,15 +64,8 @@ struct PassPlan {
   template <class Points, class Before>
   void cut(int parts, std::size_t bodies, const Points& visit_points, const Before& before) {
     // The islands: union-find over the edges (both sides awake), the larger root joining the smaller.
-    std::vector<int> root(bodies, -1);
-    auto find = [&](int b) {
-      while (root[static_cast<std::size_t>(b)] != b) {
-        int& up = root[static_cast<std::size_t>(b)];
-        up = root[static_cast<std::size_t>(up)];
-        b = up;
-      }
-      return b;
-    };
+    std::vector<int> root(bodies, -1);  // -1: not (yet) a member
+    auto find = [&](int b) { return union_find_root(root, b); };
     std::vector<int> members;  // the awake bodies that have visits
     std::vector<std::int64_t> weight(bodies, 0);  // per body: the contact points of the visits it is the first side of
     for (int v : order) {
@@ -82,10 +76,7 @@ struct PassPlan {
           members.push_back(s);
         }
       weight[static_cast<std::size_t>(b[0] >= 0 ? b[0] : b[1])] += visit_points(v);
-      if (b[0] >= 0 && b[1] >= 0) {
-        const int x = find(b[0]), y = find(b[1]);
-        if (x != y) root[static_cast<std::size_t>(std::max(x, y))] = std::min(x, y);
-      }
+      if (b[0] >= 0 && b[1] >= 0) union_find_join(root, b[0], b[1]);
     }
     // The islands, each with its weight (its bodies' contact points) and
     // its members; taken heaviest first (ties: lowest root, its lowest body).

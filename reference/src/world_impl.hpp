@@ -3,6 +3,7 @@
 // fixed engine alone (certification, cross compilers) needs no Boost.
 #pragma once
 #include "thread_pool.hpp"
+#include "union_find.hpp"
 #include "lockstep/world.hpp"
 
 #include <array>
@@ -160,73 +161,58 @@ void World<T>::set_threads(int threads) {
 template <class T>
 template <class Body>
 void World<T>::parallel_for(std::size_t count, std::size_t grain, const Body& body) {
-  // Contiguous ranges of at least `grain` items, at most one per thread; the
-  // work each item does never depends on the range it falls in.
-  const std::size_t parts = std::min<std::size_t>(static_cast<std::size_t>(workers_.threads), count / std::max<std::size_t>(grain, 1));
-  if (parts <= 1) {
-    for (std::size_t k = 0; k < count; ++k) body(k, 0);
-    return;
-  }
-  if (!workers_.pool) workers_.pool = std::make_shared<ThreadPool>(workers_.threads);  // (dropped when the count changes)
-  // A part stops at its first RunError; the lowest item's is rethrown, the
-  // one a single thread would have met first.
-  std::array<std::size_t, 256> failed;  // parts <= threads <= 256 (set_threads)
-  std::array<std::exception_ptr, 256> errors;
-  failed.fill(count);
-  workers_.pool->run(static_cast<int>(parts), [&](int part) {
-    const std::size_t lo = count * static_cast<std::size_t>(part) / parts;
-    const std::size_t hi = count * static_cast<std::size_t>(part + 1) / parts;
-    // A worker's faults: none left from an earlier region. Part 0 runs on the
-    // caller, whose pending faults the next check reports, as on one thread.
-    if (part != 0) Num<T>::take_faults();
-    for (std::size_t k = lo; k < hi; ++k) {
-      try {
-        body(k, part);
-      } catch (const RunError&) {
-        failed[static_cast<std::size_t>(part)] = k;
-        errors[static_cast<std::size_t>(part)] = std::current_exception();
-        return;
-      }
-    }
-  });
-  std::size_t first = parts;
-  for (std::size_t p = 0; p < parts; ++p)
-    if (errors[p] && (first == parts || failed[p] < failed[first])) first = p;
-  if (first < parts) std::rethrow_exception(errors[first]);
+  run_items(count, grain, false, body);
 }
 
 template <class T>
 template <class Body>
 void World<T>::parallel_each(std::size_t count, std::size_t grain, const Body& body) {
+  run_items(count, grain, true, body);
+}
+
+template <class T>
+template <class Body>
+void World<T>::run_items(std::size_t count, std::size_t grain, bool chunks, const Body& body) {
+  // At most one part per thread, each of at least `grain` items; the work
+  // each item does never depends on the part that runs it.
   grain = std::max<std::size_t>(grain, 1);
   const std::size_t parts = std::min<std::size_t>(static_cast<std::size_t>(workers_.threads), count / grain);
   if (parts <= 1) {
     for (std::size_t k = 0; k < count; ++k) body(k, 0);
     return;
   }
-  if (!workers_.pool) workers_.pool = std::make_shared<ThreadPool>(workers_.threads);
-  // Chunks go out in ascending order, so when a part stops at its first
-  // RunError every lower item has gone to some part, which runs it (and
-  // stops at its own first error): the lowest item's is rethrown, the one a
-  // single thread would have met first.
-  const std::size_t chunks = (count + grain - 1) / grain;
+  if (!workers_.pool) workers_.pool = std::make_shared<ThreadPool>(workers_.threads);  // (dropped when the count changes)
+  // A part stops at its first RunError; the lowest item's is rethrown, the
+  // one a single thread would have met first. (Chunks go out in ascending
+  // order, so every item below a failing one has gone to some part, which
+  // runs it.)
+  const std::size_t chunk_count = (count + grain - 1) / grain;
   std::atomic<std::size_t> next{0};
   std::array<std::size_t, 256> failed;  // parts <= threads <= 256 (set_threads)
   std::array<std::exception_ptr, 256> errors;
   failed.fill(count);
   workers_.pool->run(static_cast<int>(parts), [&](int part) {
-    if (part != 0) Num<T>::take_faults();  // a worker's faults: none left from an earlier region
-    for (std::size_t c; (c = next.fetch_add(1, std::memory_order_relaxed)) < chunks;) {
-      for (std::size_t k = c * grain, hi = std::min(count, (c + 1) * grain); k < hi; ++k) {
+    // A worker's faults: none left from an earlier region. Part 0 runs on the
+    // caller, whose pending faults the next check reports, as on one thread.
+    if (part != 0) Num<T>::take_faults();
+    auto items = [&](std::size_t lo, std::size_t hi) {
+      for (std::size_t k = lo; k < hi; ++k) {
         try {
           body(k, part);
         } catch (const RunError&) {
           failed[static_cast<std::size_t>(part)] = k;
           errors[static_cast<std::size_t>(part)] = std::current_exception();
-          return;
+          return false;
         }
       }
+      return true;
+    };
+    if (!chunks) {
+      items(count * static_cast<std::size_t>(part) / parts, count * static_cast<std::size_t>(part + 1) / parts);
+      return;
     }
+    for (std::size_t c; (c = next.fetch_add(1, std::memory_order_relaxed)) < chunk_count;)
+      if (!items(c * grain, std::min(count, (c + 1) * grain))) return;
   });
   std::size_t first = parts;
   for (std::size_t p = 0; p < parts; ++p)
@@ -245,19 +231,10 @@ void World<T>::items_by_groups(std::size_t count, const Bodies& bodies_of, const
   std::vector<int>& root = scratch_.group_root;
   root.resize(bodies_.size());
   for (std::size_t i = 0; i < bodies_.size(); ++i) root[i] = static_cast<int>(i);
-  auto find = [&](int b) {
-    while (root[static_cast<std::size_t>(b)] != b) {
-      int& up = root[static_cast<std::size_t>(b)];
-      up = root[static_cast<std::size_t>(up)];
-      b = up;
-    }
-    return b;
-  };
+  auto find = [&](int b) { return union_find_root(root, b); };
   for (std::size_t k = 0; k < count; ++k) {
     const std::array<int, 2> b = bodies_of(k);
-    if (b[0] < 0 || b[1] < 0) continue;
-    const int x = find(b[0]), y = find(b[1]);
-    if (x != y) root[static_cast<std::size_t>(std::max(x, y))] = std::min(x, y);
+    if (b[0] >= 0 && b[1] >= 0) union_find_join(root, b[0], b[1]);
   }
   // Each group's items in ascending order (a counting sort by group, stable).
   std::vector<int>& group_of = scratch_.group_of;  // per root: its group

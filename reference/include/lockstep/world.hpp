@@ -330,6 +330,8 @@ class World {
   // only accumulators that any order fills alike (integer counts).
   template <class Body>
   void parallel_each(std::size_t count, std::size_t grain, const Body& body);
+  template <class Body>
+  void run_items(std::size_t count, std::size_t grain, bool chunks, const Body& body);  // both of the above
   // Runs run(k) for the items k in [0, count), where item k touches (reads
   // or writes) only the bodies bodies_of(k) (two; -1: none) and what no
   // other item writes: the items joined by shared bodies form groups that
