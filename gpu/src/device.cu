@@ -34,10 +34,12 @@ __global__ void for_n_kernel(int n, F f) {
 
 // The heavy per-body kernels (gather, solver) are latency-bound; their
 // register cap is set by a number of blocks per multiprocessor:
-// LOCKSTEP_GPU_MIN_BLOCKS for the solver's kernels, LOCKSTEP_GPU_GATHER_BLOCKS
-// for the gather. Measured (docs/GPU.md "Performance"): 2 for the solver (its
-// registers without spills) beats 3 and 4, whose spills cost more than the
-// extra warps gain.
+// LOCKSTEP_GPU_MIN_BLOCKS for the solver's kernels (and gpu-fixed's pair
+// correction, PairTurnK<Q16>), LOCKSTEP_GPU_GATHER_BLOCKS for the gather.
+// Measured (docs/GPU.md "Performance"): 2 for the solver (its registers
+// without spills) beats 3 and 4, whose spills cost more than the extra warps
+// gain; gpu-fixed's kernels at 1 (255 registers) lost as much; PairTurnK<Q16>
+// at 2 took 6.4 ms a 10^6 frame against 7.5 uncapped (162 registers).
 #ifndef LOCKSTEP_GPU_MIN_BLOCKS
 #define LOCKSTEP_GPU_MIN_BLOCKS 2
 #endif
@@ -54,7 +56,8 @@ template <class F>
 constexpr int kMinBlocks = std::is_same_v<F, GatherK<float>> || std::is_same_v<F, GatherK<Q16>> ? LOCKSTEP_GPU_GATHER_BLOCKS
                            : std::is_same_v<F, ContactsK<float>> || std::is_same_v<F, SolveK<float>> ||
                                      std::is_same_v<F, SolveEdgeK<float>> || std::is_same_v<F, ContactsK<Q16>> ||
-                                     std::is_same_v<F, SolveK<Q16>> || std::is_same_v<F, SolveEdgeK<Q16>>
+                                     std::is_same_v<F, SolveK<Q16>> || std::is_same_v<F, SolveEdgeK<Q16>> ||
+                                     std::is_same_v<F, PairTurnK<Q16>>
                                ? LOCKSTEP_GPU_MIN_BLOCKS
                                : 0;
 

@@ -148,6 +148,61 @@ LS_PROP(Q16Prop, FlagsAreSticky) {
   RC_ASSERT(lockstep::q16_status() == (before | lt::ref_mul(a, b).flags));
 }
 
+// The sign rule that stands for the overflow builtins where a compiler has
+// none (a CUDA device): the wrapped result and whether the exact int32 sum or
+// difference (exact in int64) and the exact int64 one (exact in cpp_int)
+// leave the type.
+LS_PROP(Q16Prop, OverflowBySignRule) {
+  namespace d = lockstep::q16detail;
+  const std::int32_t a = *lg::raw(), b = *lg::raw();
+  std::int32_t s32 = 0;
+  const std::int64_t sum = std::int64_t{a} + b, diff = std::int64_t{a} - b;
+  RC_ASSERT((d::add_overflow_by_sign<std::int32_t, std::uint32_t>(a, b, &s32) == (sum != static_cast<std::int32_t>(sum))));
+  RC_ASSERT(s32 == lg::wrap32(static_cast<std::uint64_t>(sum)));
+  RC_ASSERT((d::sub_overflow_by_sign<std::int32_t, std::uint32_t>(a, b, &s32) == (diff != static_cast<std::int32_t>(diff))));
+  RC_ASSERT(s32 == lg::wrap32(static_cast<std::uint64_t>(diff)));
+  // int64: products of raw values (as sum3 and diff2 add them) and edges.
+  const std::int64_t x = *rc::gen::oneOf(rc::gen::just(std::int64_t{a} * b), lg::uniform(INT64_MIN, INT64_MAX),
+                                          rc::gen::element(INT64_MIN, INT64_MIN + 1, std::int64_t{-1}, std::int64_t{0},
+                                                           INT64_MAX - 1, INT64_MAX));
+  const std::int64_t y = *rc::gen::oneOf(rc::gen::just(std::int64_t{b} * a - 1), lg::uniform(INT64_MIN, INT64_MAX),
+                                          rc::gen::element(INT64_MIN, std::int64_t{-1}, std::int64_t{0}, std::int64_t{1},
+                                                           INT64_MAX));
+  const lt::Int xs = lt::Int(x) + y, xd = lt::Int(x) - y, two64 = lt::pow2(64);
+  const auto wrap64 = [&](lt::Int v) {  // v modulo 2^64, as int64
+    v = ((v % two64) + two64) % two64;
+    return static_cast<std::int64_t>(static_cast<std::uint64_t>(v));
+  };
+  const auto fits64 = [](const lt::Int& v) { return v >= INT64_MIN && v <= INT64_MAX; };
+  std::int64_t s64 = 0;
+  RC_ASSERT((d::add_overflow_by_sign<std::int64_t, std::uint64_t>(x, y, &s64) == !fits64(xs)));
+  RC_ASSERT(s64 == wrap64(xs));
+  RC_ASSERT((d::sub_overflow_by_sign<std::int64_t, std::uint64_t>(x, y, &s64) == !fits64(xd)));
+  RC_ASSERT(s64 == wrap64(xd));
+}
+
+// A device's rounding of an exact int64 (round_shift16_fits) against
+// round_shift16_any and saturate: the same int32 wherever it says it fits,
+// and it says so exactly where saturate does not clamp.
+LS_PROP(Q16Prop, RoundShift16FitsAsSaturate) {
+  namespace d = lockstep::q16detail;
+  const std::int32_t a = *lg::raw(), b = *lg::raw();
+  const std::int64_t s = *rc::gen::oneOf(
+      rc::gen::just(std::int64_t{a} * b), lg::uniform(INT64_MIN, INT64_MAX),
+      lg::uniform(-(std::int64_t{1} << 48), std::int64_t{1} << 48),  // around the int32 range of the result
+      rc::gen::element(INT64_MIN, INT64_MIN + 1, INT64_MAX - 0x8000, INT64_MAX, std::int64_t{0x7FFF8000} * 65536 - 1,
+                       std::int64_t{0x7FFF8000} * 65536, -(std::int64_t{1} << 47) - 0x8001,
+                       -(std::int64_t{1} << 47) - 0x8000, std::int64_t{0x8000}, std::int64_t{0x18000}));
+  const std::int64_t want = d::round_shift16_any(s);
+  const bool fits = want >= INT32_MIN && want <= INT32_MAX;
+  std::int32_t r = 0;
+  RC_ASSERT(d::round_shift16_fits(s, &r) == fits);
+  if (fits) RC_ASSERT(std::int64_t{r} == want);
+  lockstep::q16_clear_status();
+  RC_ASSERT(d::round_saturate(s) == d::saturate(want));
+  RC_ASSERT(lockstep::q16_take_status() == (fits ? 0u : std::uint32_t{lockstep::kQ16Overflow}));
+}
+
 // ---- Explicit edge tests -----------------------------------------------------
 
 const std::int32_t kGrid[] = {kMin32,     kMin32 + 1, -65537, -65536, -65535, -32768, -2, -1, 0, 1, 2,

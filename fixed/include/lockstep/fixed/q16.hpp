@@ -22,6 +22,7 @@
 #include <compare>
 #include <cstdint>
 #include <limits>
+#include <type_traits>
 
 #include "lockstep/hd.hpp"
 
@@ -82,11 +83,23 @@ namespace q16detail {
 constexpr std::int64_t kMax = std::numeric_limits<std::int32_t>::max();
 constexpr std::int64_t kMin = std::numeric_limits<std::int32_t>::min();
 LS_HD inline void raise(std::uint32_t f) { q16_status_ref() |= f; }
-// The clamp of an int64 outside int32 (the rare path of saturate, out of line).
-#if (defined(__GNUC__) || defined(__clang__)) && !defined(__CUDACC__)
-[[gnu::cold, gnu::noinline]]
+// The rare paths of the operations, out of line: the exact sums' (sum3_exact,
+// diff2_exact) on a CUDA device too, where an inlined copy in every product
+// sum made the solver's kernels spill; the clamp (a few instructions) stays
+// inline there, as a call in every operation cost the contact kernel more
+// (docs/GPU.md "gpu-fixed").
+#if defined(__CUDACC__)
+#define LOCKSTEP_Q16_COLD __noinline__
+#define LOCKSTEP_Q16_COLD_CLAMP
+#elif defined(__GNUC__) || defined(__clang__)
+#define LOCKSTEP_Q16_COLD [[gnu::cold, gnu::noinline]]
+#define LOCKSTEP_Q16_COLD_CLAMP [[gnu::cold, gnu::noinline]]
+#else
+#define LOCKSTEP_Q16_COLD
+#define LOCKSTEP_Q16_COLD_CLAMP
 #endif
-LS_HD inline std::int32_t clamp_out_of_range(std::int64_t v) {
+// The clamp of an int64 outside int32 (the rare path of saturate).
+LOCKSTEP_Q16_COLD_CLAMP LS_HD inline std::int32_t clamp_out_of_range(std::int64_t v) {
   raise(kQ16Overflow);
   return static_cast<std::int32_t>(v > kMax ? kMax : kMin);
 }
@@ -97,12 +110,75 @@ LOCKSTEP_Q16_INLINE std::int32_t saturate(std::int64_t v) {
     return clamp_out_of_range(v);
   return static_cast<std::int32_t>(v);
 }
+// The wrapped sum or difference of two int32 or two int64 values and whether
+// the exact one overflows: GCC's and clang's builtins on a host, else the
+// sign rule (the sum of x and y overflows exactly when its sign differs from
+// both of theirs, the difference x - y when x's and y's signs differ and
+// the result's differs from x's), in unsigned arithmetic, which wraps
+// (C++20: the conversion back is modulo 2^N). The same answers either way;
+// on a CUDA device the rule is a few 32-bit logic operations where the
+// 64-bit sum and range test took more (docs/GPU.md "gpu-fixed").
+template <class I, class U>
+LOCKSTEP_Q16_INLINE bool add_overflow_by_sign(I x, I y, I* s) {
+  const U u = static_cast<U>(static_cast<U>(x) + static_cast<U>(y));
+  *s = static_cast<I>(u);
+  return static_cast<I>((static_cast<U>(x) ^ u) & (static_cast<U>(y) ^ u)) < 0;
+}
+template <class I, class U>
+LOCKSTEP_Q16_INLINE bool sub_overflow_by_sign(I x, I y, I* s) {
+  const U u = static_cast<U>(static_cast<U>(x) - static_cast<U>(y));
+  *s = static_cast<I>(u);
+  return static_cast<I>((static_cast<U>(x) ^ static_cast<U>(y)) & (static_cast<U>(x) ^ u)) < 0;
+}
+// I: int32_t or int64_t, U: its unsigned type.
+template <class I, class U = std::make_unsigned_t<I>>
+LOCKSTEP_Q16_INLINE bool add_overflow(I x, I y, I* s) {
+#if defined(LOCKSTEP_Q16_OVERFLOW_BUILTINS)
+  return __builtin_add_overflow(x, y, s);
+#else
+  return add_overflow_by_sign<I, U>(x, y, s);
+#endif
+}
+template <class I, class U = std::make_unsigned_t<I>>
+LOCKSTEP_Q16_INLINE bool sub_overflow(I x, I y, I* s) {
+#if defined(LOCKSTEP_Q16_OVERFLOW_BUILTINS)
+  return __builtin_sub_overflow(x, y, s);
+#else
+  return sub_overflow_by_sign<I, U>(x, y, s);
+#endif
+}
 // round(s / 2^16) to nearest, ties to even, for every int64 s (no
 // intermediate can overflow): with q = floor(s / 2^16) and the dropped bits
 // r = s & 0xFFFF, +1 when r > 2^15, or r = 2^15 and q is odd.
 LOCKSTEP_Q16_INLINE std::int64_t round_shift16_any(std::int64_t s) {
   const std::int64_t q = s >> 16;
   return q + (((s & 0xFFFF) + 0x7FFF + (q & 1)) >> 16);
+}
+// saturate(round_shift16_any(s)) in 32-bit words, when it does not clamp:
+// t = s + 2^15 - 1 + (bit 16 of s) in unsigned arithmetic (it wraps only
+// where the result cannot fit), r the low word of t >> 16 (the rounding of
+// round_shift16), and the result fits in int32 exactly when t's bits 47-63
+// are all equal: (high word of t) >> 15 is 0 or -1. Returns false where
+// saturate would clamp (r is then not the result). A CUDA device's form of
+// the products' and sums' rounding (two 32-bit tests instead of a 64-bit
+// shift, add and range test); tested against round_shift16_any on a host.
+LOCKSTEP_Q16_INLINE bool round_shift16_fits(std::int64_t s, std::int32_t* r) {
+  const std::uint64_t u = static_cast<std::uint64_t>(s);
+  const std::uint64_t t = u + 0x7FFF + ((u >> 16) & 1);
+  *r = static_cast<std::int32_t>(static_cast<std::uint32_t>(t >> 16));
+  const auto high = static_cast<std::int32_t>(static_cast<std::uint32_t>(t >> 32));
+  return static_cast<std::uint32_t>((high >> 15) + 1) <= 1u;
+}
+// saturate(round_shift16_any(s)): on a CUDA device through
+// round_shift16_fits, elsewhere directly; the same value.
+LOCKSTEP_Q16_INLINE std::int32_t round_saturate(std::int64_t s) {
+#if defined(__CUDA_ARCH__)
+  std::int32_t r;
+  if (round_shift16_fits(s, &r)) [[likely]] return r;
+  return clamp_out_of_range(round_shift16_any(s));
+#else
+  return saturate(round_shift16_any(s));
+#endif
 }
 // floor(n / d) for d != 0, exact in int64 (C++ '/' truncates toward zero).
 LS_HD constexpr std::int64_t floor_div(std::int64_t n, std::int64_t d) {
@@ -185,34 +261,30 @@ class Q16 {
   friend LS_HD constexpr bool operator>=(Q16 a, Q16 b) { return a.raw_ >= b.raw_; }
   friend constexpr auto operator<=>(Q16 a, Q16 b) { return a.raw_ <=> b.raw_; }
 
-  // Exact sum, clamped. (With the overflow builtins: the int32 sum, and the
-  // clamp of the exact int64 sum only when that does not fit; the same value.)
+  // Exact sum, clamped: the int32 sum, and the clamp of the exact int64 sum
+  // only when that does not fit (q16detail::add_overflow); the same value.
   friend LOCKSTEP_Q16_INLINE Q16 operator+(Q16 a, Q16 b) {
-#if defined(LOCKSTEP_Q16_OVERFLOW_BUILTINS)
     std::int32_t r;
-    if (__builtin_add_overflow(a.raw_, b.raw_, &r)) [[unlikely]]
+    if (q16detail::add_overflow(a.raw_, b.raw_, &r)) [[unlikely]]
       return from_raw(q16detail::clamp_out_of_range(std::int64_t{a.raw_} + b.raw_));
     return from_raw(r);
-#else
-    return from_raw(q16detail::saturate(std::int64_t{a.raw_} + b.raw_));
-#endif
   }
   friend LOCKSTEP_Q16_INLINE Q16 operator-(Q16 a, Q16 b) {
-#if defined(LOCKSTEP_Q16_OVERFLOW_BUILTINS)
     std::int32_t r;
-    if (__builtin_sub_overflow(a.raw_, b.raw_, &r)) [[unlikely]]
+    if (q16detail::sub_overflow(a.raw_, b.raw_, &r)) [[unlikely]]
       return from_raw(q16detail::clamp_out_of_range(std::int64_t{a.raw_} - b.raw_));
     return from_raw(r);
-#else
-    return from_raw(q16detail::saturate(std::int64_t{a.raw_} - b.raw_));
-#endif
   }
   // -INT32_MIN clamps to INT32_MAX (kQ16Overflow).
   friend LOCKSTEP_Q16_INLINE Q16 operator-(Q16 a) { return Q16{} - a; }
   // eq 21 (Fix 11): round(Ra * Rb / 2^16), to nearest, ties to even: exact
   // int64 product, round_shift16, clamp.
   friend LOCKSTEP_Q16_INLINE Q16 operator*(Q16 a, Q16 b) {
+#if defined(__CUDA_ARCH__)
+    return from_raw(q16detail::round_saturate(std::int64_t{a.raw_} * b.raw_));
+#else
     return from_raw(q16detail::saturate(q16detail::round_shift16(std::int64_t{a.raw_} * b.raw_)));
+#endif
   }
   // round(Ra * 2^16 / Rb), to nearest, ties to even, exact in int64, clamped
   // (eq 24, Fix 11). Division by zero: kQ16DivByZero,

@@ -54,34 +54,38 @@ LOCKSTEP_Q16_INLINE Vec3<Q16>& operator-=(Vec3<Q16>& a, const Vec3<Q16>& b) { a 
 LOCKSTEP_Q16_INLINE Vec3<Q16> hadamard(const Vec3<Q16>& a, const Vec3<Q16>& b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
 
 namespace q16detail {
-// round((a0 b0 + a1 b1 + a2 b2) / 2^16) of the exact sum, clamped: the int64
-// sum when it does not overflow (|products| <= 2^62, so it rarely can), else
-// Q16Accumulator; the same value either way.
-LOCKSTEP_Q16_INLINE Q16 sum3(std::int32_t a0, std::int32_t b0, std::int32_t a1, std::int32_t b1, std::int32_t a2,
-                             std::int32_t b2) {
-#if defined(LOCKSTEP_Q16_OVERFLOW_BUILTINS)
-  std::int64_t s;
-  const bool o1 = __builtin_add_overflow(std::int64_t{a0} * b0, std::int64_t{a1} * b1, &s);
-  const bool o2 = __builtin_add_overflow(s, std::int64_t{a2} * b2, &s);
-  if (!(o1 || o2)) [[likely]] return Q16::from_raw(saturate(round_shift16_any(s)));
-#endif
+// sum3's and diff2's rare paths (the int64 sum overflows), out of line.
+LOCKSTEP_Q16_COLD LS_HD inline Q16 sum3_exact(std::int32_t a0, std::int32_t b0, std::int32_t a1, std::int32_t b1,
+                                              std::int32_t a2, std::int32_t b2) {
   Q16Accumulator acc;
   acc.add_product(a0, b0);
   acc.add_product(a1, b1);
   acc.add_product(a2, b2);
   return acc.result();
 }
-// round((a0 b0 - a1 b1) / 2^16) of the exact difference, clamped, as sum3.
-LOCKSTEP_Q16_INLINE Q16 diff2(std::int32_t a0, std::int32_t b0, std::int32_t a1, std::int32_t b1) {
-#if defined(LOCKSTEP_Q16_OVERFLOW_BUILTINS)
-  std::int64_t s;
-  if (!__builtin_sub_overflow(std::int64_t{a0} * b0, std::int64_t{a1} * b1, &s)) [[likely]]
-    return Q16::from_raw(saturate(round_shift16_any(s)));
-#endif
+LOCKSTEP_Q16_COLD LS_HD inline Q16 diff2_exact(std::int32_t a0, std::int32_t b0, std::int32_t a1, std::int32_t b1) {
   Q16Accumulator acc;
   acc.add_product(a0, b0);
   acc.sub_product(a1, b1);
   return acc.result();
+}
+// round((a0 b0 + a1 b1 + a2 b2) / 2^16) of the exact sum, clamped: the int64
+// sum when it does not overflow (|products| <= 2^62, so it rarely can), else
+// Q16Accumulator; the same value either way.
+LOCKSTEP_Q16_INLINE Q16 sum3(std::int32_t a0, std::int32_t b0, std::int32_t a1, std::int32_t b1, std::int32_t a2,
+                             std::int32_t b2) {
+  std::int64_t s;
+  const bool o1 = add_overflow(std::int64_t{a0} * b0, std::int64_t{a1} * b1, &s);
+  const bool o2 = add_overflow(s, std::int64_t{a2} * b2, &s);
+  if (!(o1 || o2)) [[likely]] return Q16::from_raw(round_saturate(s));
+  return sum3_exact(a0, b0, a1, b1, a2, b2);
+}
+// round((a0 b0 - a1 b1) / 2^16) of the exact difference, clamped, as sum3.
+LOCKSTEP_Q16_INLINE Q16 diff2(std::int32_t a0, std::int32_t b0, std::int32_t a1, std::int32_t b1) {
+  std::int64_t s;
+  if (!sub_overflow(std::int64_t{a0} * b0, std::int64_t{a1} * b1, &s)) [[likely]]
+    return Q16::from_raw(round_saturate(s));
+  return diff2_exact(a0, b0, a1, b1);
 }
 }  // namespace q16detail
 

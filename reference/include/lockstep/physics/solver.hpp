@@ -424,7 +424,7 @@ struct Scratch<V, M, true> {
 // visits of a pair of active bodies pass their mass splitting (docs/GPU.md).
 // `split_given`: the visit's manifold_split, formed before the solve (World<T>,
 // once per frame); nullptr: formed here from the points (the same value).
-template <int N, class T, class Point, class Row, class Load, class Store>
+template <int N, bool kKeepOnDevice = false, class T, class Point, class Row, class Load, class Store>
 LS_HD void solve_manifold_rows(BodyView<T>& A, BodyView<T>& B, const Point& point_at, const Row& row_at,
                                const Load& load_at, const Store& store_at, bool friction, bool gravity,
                                const T& k_scale, const Params<T>& P, SolveCounts& counts,
@@ -440,20 +440,29 @@ LS_HD void solve_manifold_rows(BodyView<T>& A, BodyView<T>& B, const Point& poin
   // again): they read the point and its state where they need them and form
   // the half of its rows a step reads (normal_rows, tangent_rows). Q16 on a
   // device keeps them (its roots and divisions are 64-bit integer work:
-  // gpu-fixed's frame took 74 ms kept, 103 formed again). The same values
-  // either way, so the same bits.
+  // gpu-fixed's frame took 74 ms kept, 103 formed again), unless its rows
+  // were formed once and are read in place (gpu-fixed's EdgeRowsK): then it
+  // keeps nothing either and reads the rows, points and states where they
+  // lie (a thread's local memory, spilled past L1 at the visit's 2 KB, cost
+  // more than the reads: the 10^6 frame's solve 33.9 ms kept, 29.5 not).
+  // kKeepOnDevice keeps the points and states of a visit whose points are
+  // formed, not read (SolveK's ground corners); a device reads rows formed
+  // once where they lie in any case. The same values either way, so the
+  // same bits.
+  constexpr bool kRowsInPlace = std::is_reference_v<decltype(row_at(0))>;
 #if defined(__CUDA_ARCH__)
-  constexpr bool kCache = !std::is_floating_point_v<T>;
+  constexpr bool kCache = !std::is_floating_point_v<T> && (kKeepOnDevice || !kRowsInPlace);
+  constexpr bool kReadInPlace = kRowsInPlace;
 #else
   constexpr bool kCache = true;
+  constexpr bool kReadInPlace = false;
 #endif
-  constexpr bool kRowsInPlace = std::is_reference_v<decltype(row_at(0))>;
   constexpr int M = kCache ? N : 1;
   Scratch<Vec3<T>, M> pn;
   Scratch<T, M> ppen;
   Scratch<ContactState<T>, M> pst;
   Scratch<ContactRows<T>, (kCache && !kRowsInPlace) ? N : 1> prow;
-  const ContactRows<T>* rows[M] = {};
+  const ContactRows<T>* rows[kReadInPlace ? 1 : M] = {};
   bool pok[M] = {};  // (nvcc cannot see that every read follows the first loop's write)
   // Point k's normal and penetration (false: not a contact).
   auto point = [&](int k, Vec3<T>& n, T& penetration) -> bool {
@@ -490,11 +499,13 @@ LS_HD void solve_manifold_rows(BodyView<T>& A, BodyView<T>& B, const Point& poin
     return w;
   };
   auto nrow = [&](int k) -> decltype(auto) {
-    if constexpr (kCache) return static_cast<const ContactRows<T>&>(*rows[k]);
+    if constexpr (kReadInPlace) return static_cast<const ContactRows<T>&>(row_at(k));
+    else if constexpr (kCache) return static_cast<const ContactRows<T>&>(*rows[k]);
     else return formed_half(k, false);
   };
   auto trow = [&](int k) -> decltype(auto) {
-    if constexpr (kCache) return static_cast<const ContactRows<T>&>(*rows[k]);
+    if constexpr (kReadInPlace) return static_cast<const ContactRows<T>&>(row_at(k));
+    else if constexpr (kCache) return static_cast<const ContactRows<T>&>(*rows[k]);
     else return formed_half(k, true);
   };
   T split = one;  // eq 99
@@ -513,7 +524,9 @@ LS_HD void solve_manifold_rows(BodyView<T>& A, BodyView<T>& B, const Point& poin
         pok[k] = ok;
         if (ok) {
           pn[k] = n, ppen[k] = penetration, pst[k] = st;
-          if constexpr (kRowsInPlace) {
+          if constexpr (kReadInPlace) {
+            // read where they lie, at each use
+          } else if constexpr (kRowsInPlace) {
             rows[k] = &row_at(k);
           } else {
             prow[k] = row_at(k);
