@@ -130,23 +130,22 @@ LOCKSTEP_Q16_INLINE bool sub_overflow_by_sign(I x, I y, I* s) {
   *s = static_cast<I>(u);
   return static_cast<I>((static_cast<U>(x) ^ static_cast<U>(y)) & (static_cast<U>(x) ^ u)) < 0;
 }
-// I: int32_t or int64_t, U: its unsigned type.
-template <class I, class U = std::make_unsigned_t<I>>
+// I: int32_t or int64_t.
+#if defined(LOCKSTEP_Q16_OVERFLOW_BUILTINS)
+template <class I>
+LOCKSTEP_Q16_INLINE bool add_overflow(I x, I y, I* s) { return __builtin_add_overflow(x, y, s); }
+template <class I>
+LOCKSTEP_Q16_INLINE bool sub_overflow(I x, I y, I* s) { return __builtin_sub_overflow(x, y, s); }
+#else
+template <class I>
 LOCKSTEP_Q16_INLINE bool add_overflow(I x, I y, I* s) {
-#if defined(LOCKSTEP_Q16_OVERFLOW_BUILTINS)
-  return __builtin_add_overflow(x, y, s);
-#else
-  return add_overflow_by_sign<I, U>(x, y, s);
-#endif
+  return add_overflow_by_sign<I, std::make_unsigned_t<I>>(x, y, s);
 }
-template <class I, class U = std::make_unsigned_t<I>>
+template <class I>
 LOCKSTEP_Q16_INLINE bool sub_overflow(I x, I y, I* s) {
-#if defined(LOCKSTEP_Q16_OVERFLOW_BUILTINS)
-  return __builtin_sub_overflow(x, y, s);
-#else
-  return sub_overflow_by_sign<I, U>(x, y, s);
-#endif
+  return sub_overflow_by_sign<I, std::make_unsigned_t<I>>(x, y, s);
 }
+#endif
 // round(s / 2^16) to nearest, ties to even, for every int64 s (no
 // intermediate can overflow): with q = floor(s / 2^16) and the dropped bits
 // r = s & 0xFFFF, +1 when r > 2^15, or r = 2^15 and q is odd.
