@@ -103,5 +103,15 @@ LS_HD inline BoxManifold<T> pair_manifold(const SceneConsts<T>& sc, const Vec3<T
   const T pair_tol = (ga - sc.half_tol) + (gb - sc.half_tol) + sc.P.contact_tolerance;
   return box_box_manifold(pa, Ra, ha, pb, Rb, hb, pair_tol);
 }
+// The manifold of bodies i and j, the lower index as body a (i_is_a: i < j):
+// the sides are picked before the one call (two calls, one a side, put two
+// inlined copies of eqs 100-107 into a kernel).
+template <class T>
+LS_HD inline BoxManifold<T> pair_manifold(const SceneConsts<T>& sc, bool i_is_a, const Vec3<T>& pi, const Mat3<T>& Ri,
+                                          const Vec3<T>& hi, const T& gi, const Vec3<T>& pj, const Mat3<T>& Rj,
+                                          const Vec3<T>& hj, const T& gj) {
+  return pair_manifold(sc, i_is_a ? pi : pj, i_is_a ? Ri : Rj, i_is_a ? hi : hj, i_is_a ? gi : gj, i_is_a ? pj : pi,
+                       i_is_a ? Rj : Ri, i_is_a ? hj : hi, i_is_a ? gj : gi);
+}
 
 }  // namespace lockstep::gpu

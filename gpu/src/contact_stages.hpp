@@ -119,6 +119,11 @@ struct ContactsK {
   F4* hold_arms_out = nullptr;
   F4* hold_n_out = nullptr;
   int* n_holds_out = nullptr;
+  // thread -> slot (WorkOrder: the bodies near the ground together, then by
+  // the length of their lists, so that a warp's threads do the same work),
+  // or null: thread k is slot k. Each slot's results are its own: any order
+  // gives the same values.
+  const int* order = nullptr;
 
   // A contact with an immovable thing (slot e of the body's): its preparation and warm start.
   LS_HD_INLINE void immovable(BodyContacts<T>& c, int e, const Vec3<T>& r1, const Vec3<T>& n, T e2, T mu2,
@@ -232,8 +237,7 @@ struct ContactsK {
     const Mat3<T> Rj = rotation_matrix(quat(ro(b.rot + j)));
     const Vec3<T> hj = xyz(ro(b.half + j));
     const T gi = ro(grow + i), gj = ro(grow + j);
-    const BoxManifold<T> mf = lower ? pair_manifold(sc, c.p, c.R, c.h, gi, pj, Rj, hj, gj)
-                                        : pair_manifold(sc, pj, Rj, hj, gj, c.p, c.R, c.h, gi);
+    const BoxManifold<T> mf = pair_manifold(sc, lower, c.p, c.R, c.h, gi, pj, Rj, hj, gj);
     const bool j_awake = is_awake(ro(b.flags + j));
     const Vec3<T> n_i = lower ? mf.n : -mf.n;  // towards body i
     PairManifold<T>& rec = d.man[t];
@@ -260,8 +264,9 @@ struct ContactsK {
       c.hold(n_i, mf.penetration[u], !j_awake, mf.point[u], sc.P);  // eq 112
       c.add_support(sc, j, n_i, mf.penetration[u], mf.point[u],
                     [&] {
-                      return lower ? contact_closing_speed(c.v0, c.w0, c.p, other0.v, other0.w, pj, mf.point[u], mf.n)
-                                   : contact_closing_speed(other0.v, other0.w, pj, c.v0, c.w0, c.p, mf.point[u], mf.n);
+                      return contact_closing_speed(pick(lower, c.v0, other0.v), pick(lower, c.w0, other0.w), pick(lower, c.p, pj),
+                                                 pick(lower, other0.v, c.v0), pick(lower, other0.w, c.w0), pick(lower, pj, c.p),
+                                                 mf.point[u], mf.n);
                     },
                     mu_o, inv_mass_of(ro(b.pos + j)) != T{});
       const Vec3<T> r1 = mf.point[u] - (lower ? c.p : pj), r2 = mf.point[u] - (lower ? pj : c.p);
@@ -292,8 +297,9 @@ struct ContactsK {
     const BodyView<T> other0 = view_of(b, j, b.vel, b.ang);
     c.add_support(sc, j, n_i, pc.penetration, pc.point,
                   [&] {
-                    return lower ? contact_closing_speed(c.v0, c.w0, c.p, other0.v, other0.w, pj, pc.point, pc.n)
-                                 : contact_closing_speed(other0.v, other0.w, pj, c.v0, c.w0, c.p, pc.point, pc.n);
+                    return contact_closing_speed(pick(lower, c.v0, other0.v), pick(lower, c.w0, other0.w), pick(lower, c.p, pj),
+                                                 pick(lower, other0.v, c.v0), pick(lower, other0.w, c.w0), pick(lower, pj, c.p),
+                                                 pc.point, pc.n);
                   },
                   friction_of(ro(b.inert + j)), inv_mass_of(ro(b.pos + j)) != T{});
     const Vec3<T> r1 = pc.point - (lower ? c.p : pj), r2 = pc.point - (lower ? pj : c.p);
@@ -339,9 +345,10 @@ struct ContactsK {
     }
   }
 
-  LS_HD void operator()(int k) const {
+  LS_HD void operator()(int thread) const {
     const BodyArrays<T>& b = d.b;
     const SceneConsts<T>& sc = d.sc;
+    const int k = order != nullptr ? ro(order + thread) : thread;
     BodyContacts<T> c;
     c.k = k;
     c.i = ro(d.list + k);

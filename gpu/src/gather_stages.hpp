@@ -122,8 +122,7 @@ struct GatherK {
             const Mat3<T> Ri = rotation_matrix(quat(ro(b.rot + i))), Rj = rotation_matrix(quat(ro(b.rot + j)));
             const Vec3<T> hi = xyz(ro(b.half + i)), hj = xyz(ro(b.half + j));
             const T gj = ro(grow + j);
-            const BoxManifold<T> mf = i_is_a ? pair_manifold(sc, p, Ri, hi, gi, pj, Rj, hj, gj)
-                                                 : pair_manifold(sc, pj, Rj, hj, gj, p, Ri, hi, gi);
+            const BoxManifold<T> mf = pair_manifold(sc, i_is_a, p, Ri, hi, gi, pj, Rj, hj, gj);
             for (int q = 0; q < mf.count && !wakes_j; ++q)
               wakes_j = wake_test(va, !i_is_a, vb, i_is_a, mf.n, mf.penetration[q], sc.P);
           }

@@ -521,6 +521,7 @@ void Pipeline<B, T>::step() {
   // the keys) when there are enough of them.
   const bool ordered = contacts && n_awake > 0 && n_awake >= opt_.work_order_min;
   WorkOrder work;
+  const int* work_order = nullptr;  // thread -> slot of the contact stage and the solver, sorted by the keys
   if (ordered) {
     for (int buf = 0; buf < 2; ++buf) {
       work_key_[buf].resize(static_cast<std::size_t>(n_));
@@ -596,12 +597,20 @@ void Pipeline<B, T>::step() {
     const PreviousContacts<T> prev{frame_ - 1, slot_of_[pp].data(), stamp_[pp].data(),
                                 NeighbourLists{nbr_[pp].data(), count_[pp].data(), stride_[pp]}, imm_[pp].data(),
                                 ground_mask_[pp].data(), pair_[pp].data(), oriented_ ? man_[pp].data() : nullptr};
+    // The threads of the contact stage and the solver in work order (the
+    // gather wrote the keys) when there are enough of them.
+    if (ordered) {
+      const int r = be_.sort_pairs(work_key_[0].data(), work_slot_[0].data(), work_key_[1].data(),
+                                   work_slot_[1].data(), n_active, work_key_bits(n_active));
+      work_order = work_slot_[r].data();
+    }
     const EdgeArrays<T> edges = prepare_edges(n_active, nl, par, contacts && n_awake > 0 &&
                                                                    opt_.pair_solver == GpuOptions::PairSolver::kColoured);
     ContactsK<T> ck{d, prev, edges, sdf_c0_.data(), sdf_c1_.data(), support_idx_.data(), support_n_.data(),
                  dir_count_.data(), ground_mask_[par].data(), immovable_.data(), vel_[1].data(),
                  ang_[1].data(), ctr_.data()};
     ck.grow = grow;
+    ck.order = work_order;
     ck.over_support = over_support_.data();
     ck.leaning = leaning_.data();
     ck.settle_limit = settle_limit_.data();
@@ -659,12 +668,7 @@ void Pipeline<B, T>::step() {
   const int iterations = sc_.P.solver_iterations;
   int last = 1;
   if (n_active > 0) {
-    const int* order = nullptr;
-    if (ordered && iterations > 0) {
-      const int r = be_.sort_pairs(work_key_[0].data(), work_slot_[0].data(), work_key_[1].data(),
-                                   work_slot_[1].data(), n_active, work_key_bits(n_active));
-      order = work_slot_[r].data();
-    }
+    const int* order = work_order;
     const bool coloured = opt_.pair_solver == GpuOptions::PairSolver::kColoured;
     const int* colour = coloured ? colour_edges(n_active, active, nl, par) : nullptr;
     // gpu-fixed: the rows of the ground and SDF points, and of the coloured

@@ -70,14 +70,15 @@ LS_HD_INLINE void form_manifold_rows(const BodyView<T>& A, const BodyView<T>& B,
 // A manifold visit of solve_manifold (k_scale as its), through rows formed
 // once (kRowsOnce<T>: `rows`, the visit's N points') or forming them.
 // kKeep: the visit keeps its points and states (solve_manifold_rows'
-// kKeepOnDevice), for points formed by `point` rather than read.
-template <int N, bool kKeep = false, class T, class Point, class Load, class Store>
+// kKeepOnDevice), for points formed by `point` rather than read; kImmovableB:
+// B is immovable_view() (solve_manifold_rows' flag: its exact zeros left out).
+template <int N, bool kKeep = false, bool kImmovableB = false, class T, class Point, class Load, class Store>
 LS_HD_INLINE void visit_manifold(BodyView<T>& A, BodyView<T>& B, const Point& point, const ContactRows<T>* rows,
                                  const Load& load, const Store& store, bool friction, bool gravity, const T& k_scale,
                                  const Params<T>& P, SolveCounts& counts) {
   if constexpr (kRowsOnce<T>) {
     auto row = [rows](int k) -> const ContactRows<T>& { return rows[k]; };
-    solve_manifold_rows<N, kKeep>(A, B, point, row, load, store, friction, gravity, k_scale, P, counts);
+    solve_manifold_rows<N, kKeep, kImmovableB>(A, B, point, row, load, store, friction, gravity, k_scale, P, counts);
   } else {
     (void)rows;
     solve_manifold<N>(A, B, point, load, store, friction, gravity, k_scale, P, counts);
@@ -149,7 +150,7 @@ struct SolveK {
       auto corner_point = [&](int c, Vec3<T>& r1, Vec3<T>& r2, Vec3<T>& n, T& penetration) {
         return ground_point(p, R, h, c, sc, tol, r1, r2, n, penetration);
       };
-      visit_manifold<8, true>(self, env, corner_point, rows_at(0), loader(0), storer(0), sc.friction, sc.gravity, one, sc.P,
+      visit_manifold<8, true, true>(self, env, corner_point, rows_at(0), loader(0), storer(0), sc.friction, sc.gravity, one, sc.P,
                         counts);
     };
     auto solve_volume = [&](int v) {
@@ -157,7 +158,7 @@ struct SolveK {
       auto sample = [&](int s, Vec3<T>& r1, Vec3<T>& r2, Vec3<T>& n, T& penetration) {
         return sdf_point(d, k, v, s, p, r1, r2, n, penetration);
       };
-      visit_manifold<9, true>(self, env, sample, rows_at(base), loader(base), storer(base), sc.friction, sc.gravity, one,
+      visit_manifold<9, true, true>(self, env, sample, rows_at(base), loader(base), storer(base), sc.friction, sc.gravity, one,
                         sc.P, counts);
     };
     // A pair visit's result for the body (mv, mw: its velocity after it):
@@ -341,10 +342,10 @@ struct SolveEdgeK {
       };
       F4* conv = d.conv_of_pair(t);
       if (visit_is_converged(conv, A, B, sc.P, pass)) return;  // eq 113
+      const ContactRows<T>* edge_rows = rows != nullptr ? rows + static_cast<long>(e) * kBoxManifoldPoints : nullptr;
       const Vec3<T> va0 = A.v, wa0 = A.w, vb0 = B.v, wb0 = B.w;
       SolveCounts counts;
-      visit_manifold<kBoxManifoldPoints>(A, B, point, rows != nullptr ? rows + static_cast<long>(e) * kBoxManifoldPoints : nullptr,
-                                         load, store, sc.friction, sc.gravity, Num<T>::from_int(1), sc.P, counts);
+      visit_manifold<kBoxManifoldPoints>(A, B, point, edge_rows, load, store, sc.friction, sc.gravity, Num<T>::from_int(1), sc.P, counts);
       record_visit(conv, va0, wa0, vb0, wb0, A, B, sc.P, counts.shortened_steps);
       if (F4* twin_conv = d.conv_of_pair(ro(mate + t)); conv != nullptr && twin_conv != nullptr)
         for (int q = 0; q < 4; ++q) twin_conv[q] = conv[q];

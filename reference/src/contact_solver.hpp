@@ -264,8 +264,14 @@ void World<T>::solve_contacts() {
       auto load = [&](int k) { return contacts_[s + static_cast<std::size_t>(k)].state; };
       auto store = [&](int k, const ContactState<T>& st) { contacts_[s + static_cast<std::size_t>(k)].state = st; };
       auto row = [&](int k) -> const ContactRows<T>& { return contacts_[s + static_cast<std::size_t>(k)].row; };
-      solve_manifold_rows<solver::kManifoldPoints>(A, B, point, row, load, store, fx.friction, fx.gravity, one, P_,
-                                                   counts, &scratch_.visit_split[at]);
+      // B immovable (the ground, an SDF volume, a body asleep: immovable_view):
+      // its terms are exact zeros, left out in an exact number type (kStillSide).
+      if (ib < 0 || !awake(ib))
+        solve_manifold_rows<solver::kManifoldPoints, false, true>(A, B, point, row, load, store, fx.friction,
+                                                                  fx.gravity, one, P_, counts, &scratch_.visit_split[at]);
+      else
+        solve_manifold_rows<solver::kManifoldPoints>(A, B, point, row, load, store, fx.friction, fx.gravity, one, P_,
+                                                     counts, &scratch_.visit_split[at]);
     } else {
       Contact<T>& c = contacts_[s];
       solve_contact(A, c.r1, B, c.r2, c.n, c.penetration, c.state, fx.friction, fx.gravity, one, P_, counts, &c.row);

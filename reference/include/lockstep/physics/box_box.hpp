@@ -179,10 +179,17 @@ LS_HD void face_contact(const Vec3<T>& pr, const Mat3<T>& Rr, const Vec3<T>& hr,
   // otherwise traded corners for clip points with each ulp of drift.
   const int a1 = k == 0 ? 1 : 0, a2 = k == 2 ? 1 : 2;
   int n = 4;
-  n = clip_side(poly, n, tmp, a1, one, hr[a1] + margin, 0);
-  n = clip_side(tmp, n, poly, a1, -one, hr[a1] + margin, 1);
-  n = clip_side(poly, n, tmp, a2, one, hr[a2] + margin, 2);
-  n = clip_side(tmp, n, poly, a2, -one, hr[a2] + margin, 3);
+  // Side plane s (0-3): axis a1, + and -, then a2, + and -; from poly to tmp
+  // and back, so that poly holds the result (one call in a loop: a device
+  // inlines each call).
+#if defined(__CUDA_ARCH__)
+#pragma unroll 1
+#endif
+  for (int s = 0; s < 4; ++s) {
+    const int a = s < 2 ? a1 : a2;
+    n = clip_side((s & 1) == 0 ? poly : tmp, n, (s & 1) == 0 ? tmp : poly, a, (s & 1) == 0 ? one : -one,
+                  hr[a] + margin, s);
+  }
   for (int c = 0; c < n; ++c) {
     poly[c].x[a1] = Num<T>::min(Num<T>::max(poly[c].x[a1], -hr[a1]), hr[a1]);
     poly[c].x[a2] = Num<T>::min(Num<T>::max(poly[c].x[a2], -hr[a2]), hr[a2]);
@@ -339,16 +346,18 @@ LS_HD BoxManifold<T> box_box_manifold(const Vec3<T>& pa, const Mat3<T>& Ra, cons
     m.count = 1;
     return m;
   }
-  // eqs 103-105: the reference face is the winning face, facing the other box.
+  // eqs 103-105: the reference face is the winning face, facing the other
+  // box (the sides picked before one call: a device inlines each call).
+  T sk;
   if (!face_b) {
-    const T sk = dot(d, A[ia]) < T{} ? -one : one;  // towards b; d.A = 0 takes +
+    sk = dot(d, A[ia]) < T{} ? -one : one;  // towards b; d.A = 0 takes +
     m.n = A[ia] * (-sk);
-    face_contact(pa, Ra, ha, ia, sk, pb, Rb, hb, 0, tol, pref.clip_margin, m);
   } else {
-    const T sk = dot(d, B[ib]) > T{} ? -one : one;  // towards a (-d); d.B = 0 takes +
+    sk = dot(d, B[ib]) > T{} ? -one : one;  // towards a (-d); d.B = 0 takes +
     m.n = B[ib] * sk;
-    face_contact(pb, Rb, hb, ib, sk, pa, Ra, ha, 1, tol, pref.clip_margin, m);
   }
+  face_contact(face_b ? pb : pa, face_b ? Rb : Ra, face_b ? hb : ha, face_b ? ib : ia, sk, face_b ? pa : pb,
+               face_b ? Ra : Rb, face_b ? ha : hb, face_b ? 1 : 0, tol, pref.clip_margin, m);
   return m;
 }
 

@@ -135,12 +135,15 @@ LS_HD_INLINE ImpulseDelta<T> impulse_delta(const BodyView<T>& a, const Vec3<T>& 
   return {J * a.inv_mass, apply_inverse_inertia(a.R, a.inv_inertia, cross(r1, J)), J * b.inv_mass,
           apply_inverse_inertia(b.R, b.inv_inertia, cross(r2, J))};
 }
-template <class T>
+// kStillB: b is a still side (kStillSide), whose changes are exact zeros: b is left as it is.
+template <bool kStillB = false, class T>
 LS_HD_INLINE void apply_delta(BodyView<T>& a, BodyView<T>& b, const ImpulseDelta<T>& d) {
   a.v += d.va;
   a.w += d.wa;
-  b.v -= d.vb;
-  b.w -= d.wb;
+  if constexpr (!kStillB) {
+    b.v -= d.vb;
+    b.w -= d.wb;
+  }
 }
 
 // eq 87 (two-body eqs 54-55 and 61-62): impulse J on body a at r1, -J on b at r2.

@@ -161,34 +161,51 @@ LS_HD_INLINE ContactRows<T> contact_rows(const BodyView<T>& A, const Vec3<T>& r1
   tangent_rows(w, A, r1, B, r2, n);
   return w;
 }
+// A still side B (the template flag kStillB of the four functions below
+// and of apply_delta): an immovable side at rest (immovable_view: no
+// velocity, inverse mass and inertia 0, so its rows' halves I2^-1 (r2 x .)
+// are 0) in an exact number type. Each of its terms is then an exact zero
+// (v - 0, a dot product with 0, 0 times a number), with no rounding and no
+// Q16 status flag, so leaving them out gives the same bits; a float's zero
+// has a sign that they could change, so there the flag does nothing.
+template <class T, bool kImmovableB>
+inline constexpr bool kStillSide = kImmovableB && Num<T>::kExact;
+
 // eqs 48-49 along n through the rows (eq 114): v_n = (v1 - v2).n + w1.(r1 x n) - w2.(r2 x n).
-template <class T>
+template <bool kStillB = false, class T>
 LS_HD_INLINE T normal_velocity(const BodyView<T>& A, const BodyView<T>& B, const ContactRows<T>& row, const Vec3<T>& n) {
-  return dot(A.v - B.v, n) + dot(A.w, row.rn1) - dot(B.w, row.rn2);
+  if constexpr (kStillB) return dot(A.v, n) + dot(A.w, row.rn1);
+  else return dot(A.v - B.v, n) + dot(A.w, row.rn1) - dot(B.w, row.rn2);
 }
 // Eq 87's velocity changes for the impulse J = n j through the rows (eq 114):
 // n (j m1^-1), I1^-1 (r1 x n) j on A and the same of B (taken off B).
-template <class T>
+template <bool kStillB = false, class T>
 LS_HD_INLINE ImpulseDelta<T> normal_delta(const BodyView<T>& A, const BodyView<T>& B, const ContactRows<T>& row,
                                           const Vec3<T>& n, const T& j) {
-  return {n * (j * A.inv_mass), row.an1 * j, n * (j * B.inv_mass), row.an2 * j};
+  if constexpr (kStillB) return {n * (j * A.inv_mass), row.an1 * j, {}, {}};
+  else return {n * (j * A.inv_mass), row.an1 * j, n * (j * B.inv_mass), row.an2 * j};
 }
 // eqs 48, 56 along the tangents through the rows (eq 129): the sliding
 // velocity's components vt_a = (v1 - v2).t_a + w1.(r1 x t_a) - w2.(r2 x t_a).
-template <class T>
+template <bool kStillB = false, class T>
 LS_HD_INLINE void tangent_velocity(const BodyView<T>& A, const BodyView<T>& B, const ContactRows<T>& row, T* vt) {
-  const Vec3<T> dv = A.v - B.v;
-  for (int a = 0; a < 2; ++a) vt[a] = dot(dv, row.t[a]) + dot(A.w, row.rt1[a]) - dot(B.w, row.rt2[a]);
+  if constexpr (kStillB) {
+    for (int a = 0; a < 2; ++a) vt[a] = dot(A.v, row.t[a]) + dot(A.w, row.rt1[a]);
+  } else {
+    const Vec3<T> dv = A.v - B.v;
+    for (int a = 0; a < 2; ++a) vt[a] = dot(dv, row.t[a]) + dot(A.w, row.rt1[a]) - dot(B.w, row.rt2[a]);
+  }
 }
 // Eq 87's velocity changes for a friction impulse J (in the tangent plane)
 // through the rows (eq 129): with l_a = J.t_a, J m1^-1 and
 // I1^-1 (r1 x t_1) l_1 + I1^-1 (r1 x t_2) l_2 on A, the same of B taken off
 // B (I^-1 (r x J) in exact arithmetic).
-template <class T>
+template <bool kStillB = false, class T>
 LS_HD_INLINE ImpulseDelta<T> tangent_delta(const BodyView<T>& A, const BodyView<T>& B, const ContactRows<T>& row,
                                            const Vec3<T>& J) {
   const T l0 = dot(J, row.t[0]), l1 = dot(J, row.t[1]);
-  return {J * A.inv_mass, row.at1[0] * l0 + row.at1[1] * l1, J * B.inv_mass, row.at2[0] * l0 + row.at2[1] * l1};
+  if constexpr (kStillB) return {J * A.inv_mass, row.at1[0] * l0 + row.at1[1] * l1, {}, {}};
+  else return {J * A.inv_mass, row.at1[0] * l0 + row.at1[1] * l1, J * B.inv_mass, row.at2[0] * l0 + row.at2[1] * l1};
 }
 // eq 95 with the tangent rows (eq 129): the friction impulse accumulated over
 // the passes, a world vector in the contact plane, moves against the
@@ -263,7 +280,7 @@ LS_HD_INLINE T gravity_pressing(const BodyView<T>& B, const Vec3<T>& n, bool gra
 // `propose(k, dl, size)` gives point k's change dl and its impulse's size
 // (false: no proposal). Returns R, the largest size; with `deltas`, point
 // k's change is kept in deltas[k]; formed[k] tells whether it was formed.
-template <class T, class Propose>
+template <bool kStillB = false, class T, class Propose>
 LS_HD_INLINE T proposals_at_rest(BodyView<T>& Z, BodyView<T>& Zb, int end, ImpulseDelta<T>* deltas, bool* formed,
                                  const Propose& propose) {
   Z.v = Z.w = Zb.v = Zb.w = Vec3<T>{};
@@ -276,7 +293,7 @@ LS_HD_INLINE T proposals_at_rest(BodyView<T>& Z, BodyView<T>& Zb, int end, Impul
     ImpulseDelta<T> dl;
     T size;
     if (!propose(k, dl, size)) continue;
-    apply_delta(Z, Zb, dl);
+    apply_delta<kStillB>(Z, Zb, dl);
     if (deltas != nullptr) deltas[k] = dl;
     formed[k] = true;
     reach = Num<T>::max(reach, size);
@@ -292,14 +309,14 @@ LS_HD_INLINE T proposals_at_rest(BodyView<T>& Z, BodyView<T>& Zb, int end, Impul
 // (and its normal n); `row(k)`: its rows. With `deltas`, point k's eq 87
 // velocity changes are kept in deltas[k]; formed[k] tells whether they were
 // formed (dj_k != 0).
-template <int N, class T, class Normal, class Row>
+template <int N, bool kStillB = false, class T, class Normal, class Row>
 LS_HD_INLINE T normal_manifold_step(const BodyView<T>& A, const BodyView<T>& B, const Normal& normal, const Row& row,
                                     const T* dj, const T* res, int end, ImpulseDelta<T>* deltas, bool* formed) {
   BodyView<T> Z = A, Zb = B;
-  const T reach = proposals_at_rest(Z, Zb, end, deltas, formed, [&](int k, ImpulseDelta<T>& dl, T& size) {
+  const T reach = proposals_at_rest<kStillB>(Z, Zb, end, deltas, formed, [&](int k, ImpulseDelta<T>& dl, T& size) {
     Vec3<T> n;
     if (dj[k] == T{} || !normal(k, n)) return false;
-    dl = normal_delta(Z, Zb, row(k), n, dj[k]);
+    dl = normal_delta<kStillB>(Z, Zb, row(k), n, dj[k]);
     size = Num<T>::abs(dj[k]);
     return true;
   });
@@ -313,7 +330,7 @@ LS_HD_INLINE T normal_manifold_step(const BodyView<T>& A, const BodyView<T>& B, 
     if (!formed[k] || !normal(k, n)) continue;
     const T w = dj[k] / reach;  // in [-1, 1]
     a += w * res[k];
-    b += w * normal_velocity(Z, Zb, row(k), n);
+    b += w * normal_velocity<kStillB>(Z, Zb, row(k), n);
   }
   return manifold_step_length(a, b);
 }
@@ -325,13 +342,13 @@ LS_HD_INLINE T normal_manifold_step(const BodyView<T>& A, const BodyView<T>& B, 
 // b = sum_k w_k . dvt_k, dvt_k the tangent velocity change at point k that
 // all the proposals cause together. `row(k)`: point k's rows (a point with
 // dJ_k != 0 is a contact); deltas and formed as normal_manifold_step's.
-template <int N, class T, class Row>
+template <int N, bool kStillB = false, class T, class Row>
 LS_HD_INLINE T friction_manifold_step(const BodyView<T>& A, const BodyView<T>& B, const Row& row, const Vec3<T>* dJ,
                                       const T* vt0, const T* vt1, int end, ImpulseDelta<T>* deltas, bool* formed) {
   BodyView<T> Z = A, Zb = B;
-  const T reach = proposals_at_rest(Z, Zb, end, deltas, formed, [&](int k, ImpulseDelta<T>& dl, T& size) {
+  const T reach = proposals_at_rest<kStillB>(Z, Zb, end, deltas, formed, [&](int k, ImpulseDelta<T>& dl, T& size) {
     if (dJ[k] == Vec3<T>{}) return false;
-    dl = tangent_delta(Z, Zb, row(k), dJ[k]);
+    dl = tangent_delta<kStillB>(Z, Zb, row(k), dJ[k]);
     size = max_abs(dJ[k]);
     return true;
   });
@@ -345,7 +362,7 @@ LS_HD_INLINE T friction_manifold_step(const BodyView<T>& A, const BodyView<T>& B
     const auto& w = row(k);
     const T w0 = dot(dJ[k], w.t[0]) / reach, w1 = dot(dJ[k], w.t[1]) / reach;  // in [-1.8, 1.8]
     T dvt[2];
-    tangent_velocity(Z, Zb, w, dvt);
+    tangent_velocity<kStillB>(Z, Zb, w, dvt);
     a -= w0 * vt0[k] + w1 * vt1[k];
     b += w0 * dvt[0] + w1 * dvt[1];
   }
@@ -424,7 +441,8 @@ struct Scratch<V, M, true> {
 // visits of a pair of active bodies pass their mass splitting (docs/GPU.md).
 // `split_given`: the visit's manifold_split, formed before the solve (World<T>,
 // once per frame); nullptr: formed here from the points (the same value).
-template <int N, bool kKeepOnDevice = false, class T, class Point, class Row, class Load, class Store>
+template <int N, bool kKeepOnDevice = false, bool kImmovableB = false, class T, class Point, class Row, class Load,
+          class Store>
 LS_HD void solve_manifold_rows(BodyView<T>& A, BodyView<T>& B, const Point& point_at, const Row& row_at,
                                const Load& load_at, const Store& store_at, bool friction, bool gravity,
                                const T& k_scale, const Params<T>& P, SolveCounts& counts,
@@ -449,6 +467,9 @@ LS_HD void solve_manifold_rows(BodyView<T>& A, BodyView<T>& B, const Point& poin
   // formed, not read (SolveK's ground corners); a device reads rows formed
   // once where they lie in any case. The same values either way, so the
   // same bits.
+  // kImmovableB: B is immovable_view() (the ground, an SDF volume); in an
+  // exact number type its terms are left out (kStillSide: the same bits).
+  constexpr bool kStill = kStillSide<T, kImmovableB>;
   constexpr bool kRowsInPlace = std::is_reference_v<decltype(row_at(0))>;
 #if defined(__CUDA_ARCH__)
   constexpr bool kCache = !std::is_floating_point_v<T> && (kKeepOnDevice || !kRowsInPlace);
@@ -557,7 +578,7 @@ LS_HD void solve_manifold_rows(BodyView<T>& A, BodyView<T>& B, const Point& poin
     const ContactState<T> c = load(k);
     ++counts.solver_contacts;
     const auto& w = nrow(k);
-    const T v_n = normal_velocity(A, B, w, n);  // eqs 48-49 (eq 114), at the visit's start
+    const T v_n = normal_velocity<kStill>(A, B, w, n);  // eqs 48-49 (eq 114), at the visit's start
     // Only approaching contacts bounce (the fix of 3.1): the target -e v_n0 uses v_n0 <= 0.
     const T target = contact_target_velocity(penetration, c.e, Num<T>::min(c.v_n0, T{}),
                                              gravity_pressing(B, n, gravity, P), P.dt, P.inv_dt);  // eq 97
@@ -571,7 +592,7 @@ LS_HD void solve_manifold_rows(BodyView<T>& A, BodyView<T>& B, const Point& poin
   bool formed[N];
   bool cached = false;
   if (count > 1) {
-    const T alpha = normal_manifold_step<N>(A, B, normal, nrow, dj.data(), res.data(), end,
+    const T alpha = normal_manifold_step<N, kStill>(A, B, normal, nrow, dj.data(), res.data(), end,
                                             kCache ? delta.data() : nullptr, formed);  // eqs 99, 114
     if (alpha < one) {
       if (alpha < half) ++counts.shortened_steps;  // eq 113: less than half the proposals' change
@@ -589,8 +610,8 @@ LS_HD void solve_manifold_rows(BodyView<T>& A, BodyView<T>& B, const Point& poin
     ContactState<T> c = load(k);
     c.j_n += dj[k];  // eq 94: stays >= 0, alpha <= 1
     store(k, c);
-    if (cached && formed[k]) apply_delta(A, B, delta[k]);       // eq 87, as the step formed it
-    else apply_delta(A, B, normal_delta(A, B, nrow(k), n, dj[k]));  // eqs 87, 114
+    if (cached && formed[k]) apply_delta<kStill>(A, B, delta[k]);                // eq 87, as the step formed it
+    else apply_delta<kStill>(A, B, normal_delta<kStill>(A, B, nrow(k), n, dj[k]));  // eqs 87, 114
     ++counts.normal_impulses;
   }
   if (!friction) return;
@@ -615,7 +636,7 @@ LS_HD void solve_manifold_rows(BodyView<T>& A, BodyView<T>& B, const Point& poin
       const Vec3<T> back = inside - c.j_t;
       c.j_t = inside;
       store(k, c);
-      apply_delta(A, B, tangent_delta(A, B, trow(k), back));  // eqs 61-62, 87, 129
+      apply_delta<kStill>(A, B, tangent_delta<kStill>(A, B, trow(k), back));  // eqs 61-62, 87, 129
       ++counts.friction_steps;
     }
   }
@@ -633,7 +654,7 @@ LS_HD void solve_manifold_rows(BodyView<T>& A, BodyView<T>& B, const Point& poin
     if (!(c.j_n > T{}) && c.j_t == Vec3<T>{}) continue;
     const auto& w = trow(k);
     T vt[2];
-    tangent_velocity(A, B, w, vt);  // eqs 48, 56, 129
+    tangent_velocity<kStill>(A, B, w, vt);  // eqs 48, 56, 129
     vt0[k] = vt[0];
     vt1[k] = vt[1];
     Vec3<T> j_t = c.j_t;
@@ -641,7 +662,7 @@ LS_HD void solve_manifold_rows(BodyView<T>& A, BodyView<T>& B, const Point& poin
   }
   cached = false;
   if (count > 1) {
-    const T alpha = friction_manifold_step<N>(A, B, trow, dJ.data(), vt0.data(), vt1.data(), end,
+    const T alpha = friction_manifold_step<N, kStill>(A, B, trow, dJ.data(), vt0.data(), vt1.data(), end,
                                               kCache ? delta.data() : nullptr, formed);  // eqs 99, 129
     if (alpha < one) {
       if (alpha < half) ++counts.shortened_steps;  // eq 113: less than half the proposals' change
@@ -658,8 +679,8 @@ LS_HD void solve_manifold_rows(BodyView<T>& A, BodyView<T>& B, const Point& poin
     ContactState<T> c = load(k);
     c.j_t += dJ[k];
     store(k, c);
-    if (cached && formed[k]) apply_delta(A, B, delta[k]);       // eqs 61-62, 87, as the step formed it
-    else apply_delta(A, B, tangent_delta(A, B, trow(k), dJ[k]));  // eqs 61-62, 87, 129
+    if (cached && formed[k]) apply_delta<kStill>(A, B, delta[k]);                // eqs 61-62, 87, as the step formed it
+    else apply_delta<kStill>(A, B, tangent_delta<kStill>(A, B, trow(k), dJ[k]));  // eqs 61-62, 87, 129
     ++counts.friction_steps;
   }
 }
