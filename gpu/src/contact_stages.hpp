@@ -69,7 +69,8 @@ struct BodyContacts {
 
 // Stages 3 and 5 (preparation): each active body
 // - finds its contacts in World<T>'s order (ground corners, SDF samples,
-//   bodies by index: ground, volumes, oriented_pair / aabb_pair) and its
+//   bodies by index: ground, volumes, oriented_pair (the manifolds that
+//   PairManifoldK formed) / aabb_pair) and its
 //   support (BodyContacts::add_support);
 // - counts its contacts with other active bodies per normal direction (the
 //   Jacobi mass splitting);
@@ -104,7 +105,6 @@ struct ContactsK {
   F4* vout;
   F4* wout;
   Counter* ctr;
-  const T* grow = nullptr;  // oriented-box model: per body, its AABB growth (eqs 97, 107)
   int* over_support = nullptr;  // per body: 1 when its centre of mass is over its support contacts (eq 112)
   int* leaning = nullptr;       // per body: 1 when it leans on what holds it beyond its support (eq 115)
   T* settle_limit = nullptr;  // per body: eq 77 damps a relative speed up to this (eq 116)
@@ -225,55 +225,48 @@ struct ContactsK {
     return cs;
   }
 
-  // The oriented-box model: entry t's pair manifold (eqs 100-107), as World<T>'s
-  // narrowphase (body a the lower index); every point is a contact (support,
-  // preparation, warm start by feature, in point order).
+  // The oriented-box model: entry t's pair manifold (eqs 100-107, formed by
+  // PairManifoldK, body a the lower index); every point is a contact
+  // (support, preparation, warm start by feature, in point order).
   LS_HD_INLINE void oriented_pair(BodyContacts<T>& c, int t) const {
     const BodyArrays<T>& b = d.b;
     const SceneConsts<T>& sc = d.sc;
     const int i = c.i, j = d.lists.nbr[t];
     const Vec3<T> pj = xyz(ro(b.pos + j));
     const bool lower = i < j;
-    const Mat3<T> Rj = rotation_matrix(quat(ro(b.rot + j)));
-    const Vec3<T> hj = xyz(ro(b.half + j));
-    const T gi = ro(grow + i), gj = ro(grow + j);
-    const BoxManifold<T> mf = pair_manifold(sc, lower, c.p, c.R, c.h, gi, pj, Rj, hj, gj);
-    const bool j_awake = is_awake(ro(b.flags + j));
-    const Vec3<T> n_i = lower ? mf.n : -mf.n;  // towards body i
     PairManifold<T>& rec = d.man[t];
-    rec.count = mf.count;
-    rec.n = f4(mf.n, T{});
-    for (int u = 0; u < kBoxManifoldPoints; ++u) {
-      rec.pt[u] = u < mf.count ? f4(mf.point[u], mf.penetration[u]) : F4{};
-      rec.feature[u] = u < mf.count ? mf.feature[u] : 0;
-    }
-    rec.deepest = deepest_point(mf.penetration, mf.count);
-    rec.depth = mean_depth(mf.penetration, mf.count);  // eq 110
-    note_faults<T>(sc.faults, lower ? i : j, kFqPairContact);
-    if (edges.mate != nullptr) init_edge(edges, d.lists, i, t, j, j_awake && mf.count > 0, c.p.y, pj.y);
-    if (mf.count == 0) return;
+    const int count = rec.count;
+    const Vec3<T> n = xyz(rec.n);
+    const bool j_awake = is_awake(ro(b.flags + j));
+    const Vec3<T> n_i = lower ? n : -n;  // towards body i
+    if (edges.mate != nullptr) init_edge(edges, d.lists, i, t, j, j_awake && count > 0, c.p.y, pj.y);
+    if (count == 0) return;
     if (!j_awake) ++c.immovable_bodies;
-    if (lower || !j_awake) c.pair_points += static_cast<unsigned>(mf.count);
+    if (lower || !j_awake) c.pair_points += static_cast<unsigned>(count);
     if (j_awake) c.count_direction(n_i);
     const BodyView<T> other0 = view_of(b, j, b.vel, b.ang);
     const T e_o = restitution_of(ro(b.half + j)), mu_o = friction_of(ro(b.inert + j));
     const int prev_t = previous_entry(c, j);
     const int prev_count = prev_t >= 0 ? ro(&prev.man[prev_t].count) : 0;
     SolveCounts here;
-    for (int u = 0; u < mf.count; ++u) {
-      c.hold(n_i, mf.penetration[u], !j_awake, mf.point[u], sc.P);  // eq 112
-      c.add_support(sc, j, n_i, mf.penetration[u], mf.point[u],
+    for (int u = 0; u < count; ++u) {
+      const F4 pt = rec.pt[u];
+      const Vec3<T> point = xyz(pt);
+      const T penetration = pt.w;
+      c.hold(n_i, penetration, !j_awake, point, sc.P);  // eq 112
+      c.add_support(sc, j, n_i, penetration, point,
                     [&] {
                       return contact_closing_speed(pick(lower, c.v0, other0.v), pick(lower, c.w0, other0.w), pick(lower, c.p, pj),
                                                  pick(lower, other0.v, c.v0), pick(lower, other0.w, c.w0), pick(lower, pj, c.p),
-                                                 mf.point[u], mf.n);
+                                                 point, n);
                     },
                     mu_o, inv_mass_of(ro(b.pos + j)) != T{});
-      const Vec3<T> r1 = mf.point[u] - (lower ? c.p : pj), r2 = mf.point[u] - (lower ? pj : c.p);
+      const Vec3<T> r1 = point - (lower ? c.p : pj), r2 = point - (lower ? pj : c.p);
+      const int feature = rec.feature[u];
       T cached = T{};  // eq 96: the same feature's impulse last frame
       for (int w = 0; w < prev_count; ++w)
-        if (ro(&prev.man[prev_t].feature[w]) == mf.feature[u]) { cached = ro(&prev.man[prev_t].st[w].a).x; break; }
-      const ContactState<T> cs = pair_point(c, lower, other0, e_o, mu_o, r1, r2, mf.n, cached, here, lower ? i : j);
+        if (ro(&prev.man[prev_t].feature[w]) == feature) { cached = ro(&prev.man[prev_t].st[w].a).x; break; }
+      const ContactState<T> cs = pair_point(c, lower, other0, e_o, mu_o, r1, r2, n, cached, here, lower ? i : j);
       store_state(cs, rec.st[u].a, rec.st[u].b);
     }
     if (lower || other0.inv_mass == T{}) c.counts.restitution_bounces += here.restitution_bounces;

@@ -606,10 +606,11 @@ void Pipeline<B, T>::step() {
     }
     const EdgeArrays<T> edges = prepare_edges(n_active, nl, par, contacts && n_awake > 0 &&
                                                                    opt_.pair_solver == GpuOptions::PairSolver::kColoured);
+    if (oriented_)  // eqs 100-107: each pair's manifold, once
+      be_.for_n(n_active, PairManifoldK<T>{d, slot_of_[par].data(), grow, work_order});
     ContactsK<T> ck{d, prev, edges, sdf_c0_.data(), sdf_c1_.data(), support_idx_.data(), support_n_.data(),
                  dir_count_.data(), ground_mask_[par].data(), immovable_.data(), vel_[1].data(),
                  ang_[1].data(), ctr_.data()};
-    ck.grow = grow;
     ck.order = work_order;
     ck.over_support = over_support_.data();
     ck.leaning = leaning_.data();

@@ -11,6 +11,7 @@
 //   grid.hpp, grid_stages.hpp    the uniform grids and the kernels that build them
 //   integrate_stages.hpp         stage 1 (IntegrateVelocityK)
 //   gather_stages.hpp            stages 2-4: neighbour lists and eq 81's wake (GatherK)
+//   manifold_stages.hpp          stage 3, oriented-box model: each pair's manifold, once (PairManifoldK)
 //   contact_stages.hpp           stages 3, 5: contacts, supports, preparation (ContactsK);
 //                                eq 112's chain (TipChainK)
 //   solve_stages.hpp             stage 5: the solver's iterations (SolveK, SolveEdgeK; gpu-fixed's rows, ImmRowsK, EdgeRowsK)
@@ -28,6 +29,7 @@
 #include "contact_stages.hpp"
 #include "correct_stages.hpp"
 #include "gather_stages.hpp"
+#include "manifold_stages.hpp"
 #include "grid_stages.hpp"
 #include "integrate_stages.hpp"
 #include "oriented_stages.hpp"
