@@ -9,9 +9,12 @@
 #include <exception>
 #include <vector>
 
-// Targets without threads (WASI; Emscripten without -pthread): the pool has
-// no workers and runs every part on the caller's thread (the same bits).
-#if defined(__wasi__) || (defined(__EMSCRIPTEN__) && !defined(__EMSCRIPTEN_PTHREADS__))
+// Targets without threads (WASI; Emscripten without -pthread; a libstdc++
+// without std::thread, as mingw-w64's win32 thread model before GCC 13): the
+// pool has no workers and runs every part on the caller's thread (the same
+// bits).
+#if defined(__wasi__) || (defined(__EMSCRIPTEN__) && !defined(__EMSCRIPTEN_PTHREADS__)) || \
+    (defined(__GLIBCXX__) && !defined(_GLIBCXX_HAS_GTHREADS))
 #define LOCKSTEP_NO_THREADS 1
 #else
 #include <thread>
