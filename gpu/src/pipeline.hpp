@@ -311,7 +311,7 @@ class Pipeline final : public PipelineBase<T> {
   Buf<F4> conv_imm_;   // eq 113, with the skip on: per slot, its ground and SDF manifolds' last visits (this frame's solve only)
   Buf<F4> conv_pair_;  // eq 113, with the skip on: per neighbour-list entry, its pair's last visit (this frame's solve only)
   Buf<int> ground_mask_[2];  // per slot: the ground corners in contact
-  Buf<unsigned> work_key_[2];  // the solver's thread order (WorkOrder), sorted from 0 into r
+  Buf<unsigned> work_key_[2];  // the contact stage's and solver's thread order (WorkOrder), sorted from 0 into r
   Buf<int> work_slot_[2];
   Buf<Counter> dir_count_;
   Buf<F4> sdf_c0_, sdf_c1_, support_n_;
@@ -517,8 +517,9 @@ void Pipeline<B, T>::step() {
   };
   // Gathers the lists of slots [0, n_awake) and [n_awake, n_active), the
   // first time with the work counted and the wakes decided.
-  // The threads of the solver's iterations in work order (the gather writes
-  // the keys) when there are enough of them.
+  // The threads of the contact stage and the solver's iterations in work
+  // order (the gather writes the keys, sorted before the contact stage) when
+  // there are enough of them.
   const bool ordered = contacts && n_awake > 0 && n_awake >= opt_.work_order_min;
   WorkOrder work;
   const int* work_order = nullptr;  // thread -> slot of the contact stage and the solver, sorted by the keys
@@ -597,8 +598,6 @@ void Pipeline<B, T>::step() {
     const PreviousContacts<T> prev{frame_ - 1, slot_of_[pp].data(), stamp_[pp].data(),
                                 NeighbourLists{nbr_[pp].data(), count_[pp].data(), stride_[pp]}, imm_[pp].data(),
                                 ground_mask_[pp].data(), pair_[pp].data(), oriented_ ? man_[pp].data() : nullptr};
-    // The threads of the contact stage and the solver in work order (the
-    // gather wrote the keys) when there are enough of them.
     if (ordered) {
       const int r = be_.sort_pairs(work_key_[0].data(), work_slot_[0].data(), work_key_[1].data(),
                                    work_slot_[1].data(), n_active, work_key_bits(n_active));
@@ -669,7 +668,6 @@ void Pipeline<B, T>::step() {
   const int iterations = sc_.P.solver_iterations;
   int last = 1;
   if (n_active > 0) {
-    const int* order = work_order;
     const bool coloured = opt_.pair_solver == GpuOptions::PairSolver::kColoured;
     const int* colour = coloured ? colour_edges(n_active, active, nl, par) : nullptr;
     // gpu-fixed: the rows of the ground and SDF points, and of the coloured
@@ -695,7 +693,7 @@ void Pipeline<B, T>::step() {
         // The oriented-box model alternates (7.2 step 5): odd passes visit
         // the colours top-down, then the bodies' own manifolds in reverse.
         const bool reverse = oriented_ && (it & 1) != 0;
-        SolveK<T> sk{d, order, colour, immovable_.data(), vel_[1].data(), ang_[1].data(),
+        SolveK<T> sk{d, work_order, colour, immovable_.data(), vel_[1].data(), ang_[1].data(),
                   vel_[1].data(), ang_[1].data(), ctr_.data()};
         sk.reverse = reverse;
         sk.pass = it;
@@ -717,7 +715,7 @@ void Pipeline<B, T>::step() {
     } else {
       for (int it = 0; it < iterations; ++it) {
         const int in = it % 2 == 0 ? 1 : 2, out = 3 - in;
-        SolveK<T> sk{d, order, nullptr, nullptr, vel_[in].data(), ang_[in].data(), vel_[out].data(),
+        SolveK<T> sk{d, work_order, nullptr, nullptr, vel_[in].data(), ang_[in].data(), vel_[out].data(),
                   ang_[out].data(), ctr_.data()};
         sk.reverse = oriented_ && (it & 1) != 0;
         sk.pass = it;

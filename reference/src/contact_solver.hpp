@@ -3,6 +3,7 @@
 // Baumgarte position correction (eqs 63, 89).
 #pragma once
 #include <algorithm>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -266,12 +267,12 @@ void World<T>::solve_contacts() {
       auto row = [&](int k) -> const ContactRows<T>& { return contacts_[s + static_cast<std::size_t>(k)].row; };
       // B immovable (the ground, an SDF volume, a body asleep: immovable_view):
       // its terms are exact zeros, left out in an exact number type (kStillSide).
-      if (ib < 0 || !awake(ib))
-        solve_manifold_rows<solver::kManifoldPoints, false, true>(A, B, point, row, load, store, fx.friction,
-                                                                  fx.gravity, one, P_, counts, &scratch_.visit_split[at]);
-      else
-        solve_manifold_rows<solver::kManifoldPoints>(A, B, point, row, load, store, fx.friction, fx.gravity, one, P_,
-                                                     counts, &scratch_.visit_split[at]);
+      auto solve = [&](auto immovable_b) {
+        solve_manifold_rows<solver::kManifoldPoints, false, decltype(immovable_b)::value>(
+            A, B, point, row, load, store, fx.friction, fx.gravity, one, P_, counts, &scratch_.visit_split[at]);
+      };
+      if (ib < 0 || !awake(ib)) solve(std::true_type{});
+      else solve(std::false_type{});
     } else {
       Contact<T>& c = contacts_[s];
       solve_contact(A, c.r1, B, c.r2, c.n, c.penetration, c.state, fx.friction, fx.gravity, one, P_, counts, &c.row);
